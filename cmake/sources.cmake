@@ -1,0 +1,24 @@
+# Explicit source list of the spt_core library (everything but main.cpp).
+set(SPT_CORE_SOURCES
+    src/cli/options.cpp
+    src/cli/progress_bar.cpp
+    src/io/atomic_file.cpp
+    src/io/embedded_files.cpp
+    src/io/exr_writer.cpp
+    src/io/image_writer.cpp
+    src/io/pfm_writer.cpp
+    src/io/png_writer.cpp
+    src/io/ppm_writer.cpp
+    src/render/bsdf.cpp
+    src/render/film.cpp
+    src/render/integrator.cpp
+    src/render/renderer.cpp
+    src/scene/builtin_scenes.cpp
+    src/scene/effects.cpp
+    src/scene/scene.cpp
+    src/spectral/cie.cpp
+    src/spectral/color_space.cpp
+    src/spectral/spectral_table.cpp
+    src/spectral/spectrum.cpp
+    src/spectral/spectrum_source.cpp
+)

@@ -1,0 +1,139 @@
+// Flag parsing: every value is checked, and errors name the flag and what it accepts.
+#include "cli/options.h"
+
+#include <charconv>
+#include <cmath>
+#include <limits>
+
+#include "io/image_writer.h"
+#include "spectral/color_space.h"
+
+namespace spt {
+
+namespace {
+
+template <typename T>
+T parse_integer(const std::string& flag, const std::string& text, T lo, T hi, const char* what) {
+    T value{};
+    const auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+    if (text.empty() || ec != std::errc() || ptr != text.data() + text.size() || value < lo || value > hi)
+        throw UsageError(flag + ": expected " + what + ", got '" + text + "'");
+    return value;
+}
+
+double parse_real(const std::string& flag, const std::string& text, double lo, double hi,
+                  const char* what) {
+    double value = 0;
+    const auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+    if (text.empty() || ec != std::errc() || ptr != text.data() + text.size() ||
+        !std::isfinite(value) || value < lo || value > hi)
+        throw UsageError(flag + ": expected " + what + ", got '" + text + "'");
+    return value;
+}
+
+}  // namespace
+
+std::string usage_text() {
+    return R"(Usage: pathtracer [SCENE] [options]
+
+Spectral Monte Carlo path tracer. SCENE is a built-in scene name (default: cornell);
+see --list-scenes.
+
+Options:
+  --spp N                paths per pixel (1 to 1000000; default: the scene's)
+  --width W, --height H  image size in pixels (1 to 65536; default: the scene's)
+  -o, --output FILE      output image; repeat to write several files from one render.
+                         Format by extension: .png (sRGB 8-bit, tone-mapped), .exr and .pfm
+                         (linear float), .ppm (P3 with #MAX=). Default: SCENE.png
+  --exposure STOPS       PNG exposure adjustment in stops (-20 to 20; default 0)
+  --color-resolution R   PPM integer levels (2 to 2^62; default 2^25)
+  --color-space NAME     srgb (default), rec2020, acescg or xyz: linear RGB of the float outputs
+  --spectral-bins N      bins per spectrum, 1 to 1024, or 'exact' to evaluate the
+                         analytic spectra at each wavelength (default 16)
+  --threads T            worker threads (1 to 1024; default: all cores)
+  --seed S               random seed (0 to 2^64-1; default 0); same seed, same image
+  --max-depth D          maximum scattering events per path (0 to 100000; default unbounded)
+  --quiet                no progress bar and no summary
+  --list-scenes          list the built-in scenes
+  -h, --help             this text
+  --version              the program version
+)";
+}
+
+Options parse_options(const std::vector<std::string>& args) {
+    Options o;
+    bool scene_given = false;
+    for (std::size_t i = 0; i < args.size(); ++i) {
+        const std::string& arg = args[i];
+        // --flag=value and --flag value are both accepted.
+        std::string flag = arg, value;
+        bool inline_value = false;
+        if (arg.rfind("--", 0) == 0) {
+            if (const auto eq = arg.find('='); eq != std::string::npos) {
+                flag = arg.substr(0, eq), value = arg.substr(eq + 1), inline_value = true;
+            }
+        }
+        auto next_value = [&]() -> std::string {
+            if (inline_value) return value;
+            if (i + 1 >= args.size()) throw UsageError(flag + ": missing value");
+            return args[++i];
+        };
+        if (flag == "-h" || flag == "--help") {
+            o.show_help = true;
+        } else if (flag == "--version") {
+            o.show_version = true;
+        } else if (flag == "--list-scenes") {
+            o.list_scenes = true;
+        } else if (flag == "--quiet") {
+            o.quiet = true;
+        } else if (flag == "--spp") {
+            o.spp = parse_integer<int>(flag, next_value(), 1, 1000000, "an integer from 1 to 1000000");
+        } else if (flag == "--width" || flag == "--height") {
+            const int v = parse_integer<int>(flag, next_value(), 1, 65536, "an integer from 1 to 65536");
+            (flag == "--width" ? o.width : o.height) = v;
+        } else if (flag == "-o" || flag == "--output") {
+            const std::string path = next_value();
+            if (!image_format_from_path(path))
+                throw UsageError(flag + ": expected a file name ending in .png, .exr, .pfm or .ppm, got '" +
+                                 path + "'");
+            o.outputs.push_back(path);
+        } else if (flag == "--exposure") {
+            o.exposure = parse_real(flag, next_value(), -20, 20, "a number of stops from -20 to 20");
+        } else if (flag == "--color-resolution") {
+            o.color_resolution = parse_integer<std::uint64_t>(flag, next_value(), 2, 1ull << 62,
+                                                              "an integer from 2 to 2^62");
+        } else if (flag == "--color-space") {
+            o.color_space = next_value();
+            if (!color_space_by_name(o.color_space))
+                throw UsageError(flag + ": expected srgb, rec2020, acescg or xyz, got '" +
+                                 o.color_space + "'");
+        } else if (flag == "--spectral-bins") {
+            const std::string v = next_value();
+            o.spectral.bins = v == "exact" ? SpectralResolution::kExact
+                                           : parse_integer<int>(flag, v, SpectralResolution::kMinBins,
+                                                                SpectralResolution::kMaxBins,
+                                                                "an integer from 1 to 1024 or 'exact'");
+        } else if (flag == "--threads") {
+            o.threads = parse_integer<int>(flag, next_value(), 1, 1024, "an integer from 1 to 1024");
+        } else if (flag == "--seed") {
+            o.seed = parse_integer<std::uint64_t>(flag, next_value(), 0,
+                                                  std::numeric_limits<std::uint64_t>::max(),
+                                                  "an integer from 0 to 2^64-1");
+        } else if (flag == "--max-depth") {
+            o.max_depth = parse_integer<int>(flag, next_value(), 0, 100000, "an integer from 0 to 100000");
+        } else if (!arg.empty() && arg[0] == '-') {
+            throw UsageError(arg + ": unknown option (see --help)");
+        } else {
+            if (scene_given)
+                throw UsageError("SCENE: expected one scene, got '" + o.scene + "' and '" + arg + "'");
+            o.scene = arg;
+            scene_given = true;
+        }
+        if (inline_value && (flag == "-h" || flag == "--help" || flag == "--version" ||
+                             flag == "--list-scenes" || flag == "--quiet"))
+            throw UsageError(flag + ": takes no value");
+    }
+    return o;
+}
+
+}  // namespace spt

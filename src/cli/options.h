@@ -1,0 +1,41 @@
+// Command-line options of the pathtracer program and their parser.
+#pragma once
+#include <cstdint>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "spectral/spectrum.h"
+
+namespace spt {
+
+/// A bad flag or value: the message is one line naming the flag and the accepted values.
+struct UsageError : std::runtime_error {
+    using std::runtime_error::runtime_error;
+};
+
+struct Options {
+    std::string scene = "cornell";
+    std::optional<int> spp, width, height;  ///< unset: the scene's defaults
+    std::vector<std::string> outputs;       ///< unset: "<scene>.png"
+    std::uint64_t color_resolution = 1ull << 25;
+    SpectralResolution spectral;
+    std::string color_space = "srgb";
+    int threads = 0;
+    std::uint64_t seed = 0;
+    int max_depth = -1;
+    double exposure = 0.0;
+    bool quiet = false;
+    bool show_help = false;
+    bool show_version = false;
+    bool list_scenes = false;
+};
+
+/// Parses argv (without the program name). Throws UsageError.
+Options parse_options(const std::vector<std::string>& args);
+
+/// The --help text.
+std::string usage_text();
+
+}  // namespace spt

@@ -1,0 +1,24 @@
+// Progress on stderr: a redrawn bar with percentage, elapsed time and ETA on a terminal,
+// plain lines every ten percent otherwise (logs stay readable).
+#pragma once
+#include <chrono>
+#include <cstdint>
+
+namespace spt {
+
+class ProgressBar {
+public:
+    explicit ProgressBar(bool enabled);
+    void update(std::uint64_t done, std::uint64_t total);
+    /// Ends the bar's line (call once after the last update).
+    void finish();
+
+private:
+    bool m_enabled;
+    bool m_terminal;
+    int m_last_decile = -1;
+    bool m_drawn = false;
+    std::chrono::steady_clock::time_point m_start;
+};
+
+}  // namespace spt

@@ -1,0 +1,32 @@
+// Sampling and evaluation of the three-lobe material (see material.h). Directions point away
+// from the surface; n is the geometric normal, either side.
+#pragma once
+#include <optional>
+
+#include "geometry/ray.h"
+#include "render/material.h"
+#include "spectral/sampled.h"
+
+namespace spt {
+
+struct BsdfSample {
+    Vec3 wi;
+    SampledSpectrum weight;  ///< f·|cos θi| / pdf per wavelength (includes lobe choice)
+    bool is_specular = false;
+    float eta_scale = 1.f;   ///< (η_t/η_i)² on refraction, to undo radiance scaling in roulette
+};
+
+/// Samples a lobe, then a direction. May terminate the companion wavelengths (dispersive
+/// refraction). nullopt when the sample carries no energy (absorbed or a degenerate direction).
+std::optional<BsdfSample> sample_bsdf(const Material& mat, const Vec3& wo, const Vec3& n,
+                                      SampledWavelengths& lambda, float u_lobe, float u1, float u2);
+
+/// Non-specular part (diffuse) f·|cos θi| for light arriving from wi, for next-event estimation.
+inline SampledSpectrum eval_diffuse_cos(const Material& mat, const Vec3& wo, const Vec3& wi,
+                                        const Vec3& n, const SampledWavelengths& lambda) {
+    const float cos_o = dot(wo, n), cos_i = dot(wi, n);
+    if (cos_o * cos_i <= 0.f) return SampledSpectrum(0.f);  // Lambertian reflects, never transmits
+    return mat.kd.sample(lambda) * (std::fabs(cos_i) * kInvPi);
+}
+
+}  // namespace spt

@@ -1,0 +1,27 @@
+// Unidirectional path tracing (Kajiya) with Russian roulette and next-event estimation to
+// point lights. Area lights (emitting surfaces) are counted when a path hits them.
+#pragma once
+#include <cstdint>
+
+#include "core/rng.h"
+#include "scene/scene.h"
+#include "spectral/sampled.h"
+
+namespace spt {
+
+struct IntegratorSettings {
+    static constexpr int kUnbounded = -1;
+    int max_depth = kUnbounded;  ///< scattering events allowed; kUnbounded relies on roulette
+    bool roulette = true;
+    int roulette_depth = 3;      ///< first bounce at which roulette may end a path
+};
+
+struct PathStats {
+    std::uint64_t rays = 0;  ///< every ray cast: camera, bounce and shadow rays
+};
+
+/// Radiance arriving along `ray` at the path's wavelengths (may terminate the companions).
+SampledSpectrum trace_path(const Scene& scene, const IntegratorSettings& settings, Ray ray,
+                           SampledWavelengths& lambda, Rng& rng, PathStats& stats);
+
+}  // namespace spt

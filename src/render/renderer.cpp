@@ -1,0 +1,141 @@
+// Tile scheduling. Determinism: every sample draws from its own Rng(seed, pixel, sample) and
+// each pixel adds its samples in sample order, so the film does not depend on the threads.
+#include "render/renderer.h"
+
+#include <chrono>
+#include <condition_variable>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+#include "render/work_queue.h"
+
+namespace spt {
+
+namespace {
+
+struct TileTask {
+    int x0, y0, x1, y1;
+    int first_sample, end_sample;
+};
+
+/// Counts finished tiles so the producer can wait for the end of a pass.
+class PassLatch {
+public:
+    void finished_one(std::uint64_t paths) {
+        {
+            const std::lock_guard lock(m_mutex);
+            ++m_done;
+            m_paths += paths;
+        }
+        m_cv.notify_all();
+    }
+    /// Waits up to `timeout` for `count` tiles; returns true when they are all done.
+    bool wait_for(int count, std::chrono::milliseconds timeout) {
+        std::unique_lock lock(m_mutex);
+        return m_cv.wait_for(lock, timeout, [&] { return m_done >= count; });
+    }
+    std::uint64_t paths() {
+        const std::lock_guard lock(m_mutex);
+        return m_paths;
+    }
+    void reset() {
+        const std::lock_guard lock(m_mutex);
+        m_done = 0;
+    }
+
+private:
+    std::mutex m_mutex;
+    std::condition_variable m_cv;
+    int m_done = 0;
+    std::uint64_t m_paths = 0;
+};
+
+int choose_pass_spp(const RenderSettings& s) {
+    if (s.pass_spp > 0) return std::min(s.pass_spp, s.spp);
+    // About four million paths per pass: frequent enough for progress and interruption,
+    // long enough that waiting for the last tile of a pass costs little.
+    const double pixels = double(s.width) * s.height;
+    const int pass = static_cast<int>(std::max(1.0, 4.0e6 / pixels));
+    return std::min(pass, s.spp);
+}
+
+}  // namespace
+
+void render_pixel(const Scene& scene, const RenderSettings& settings, const Camera& camera, int x,
+                  int y, int first_sample, int end_sample, Film& film, PathStats& stats) {
+    const std::uint64_t pixel_index = std::uint64_t(y) * settings.width + x;
+    for (int s = first_sample; s < end_sample; ++s) {
+        Rng rng(settings.seed, pixel_index, static_cast<std::uint64_t>(s));
+        SampledWavelengths lambda = SampledWavelengths::sample(rng.uniform());
+        const float px = static_cast<float>(x) + rng.uniform();
+        const float py = static_cast<float>(y) + rng.uniform();
+        const Ray ray = camera.generate_ray(px, py);
+        const SampledSpectrum L = trace_path(scene, settings.integrator, ray, lambda, rng, stats);
+        film.add_sample(x, y, L, lambda);
+    }
+}
+
+RenderStats render(const Scene& scene, const RenderSettings& settings, Film& film,
+                   const ProgressCallback& progress, const std::atomic<bool>* cancel) {
+    const auto start = std::chrono::steady_clock::now();
+    const Camera camera(scene.camera, settings.width, settings.height);
+    const int threads = settings.threads > 0
+                            ? settings.threads
+                            : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+    const int pass_spp = choose_pass_spp(settings);
+    RenderStats stats;
+    stats.passes_total = (settings.spp + pass_spp - 1) / pass_spp;
+    const std::uint64_t total_paths = std::uint64_t(settings.width) * settings.height * settings.spp;
+
+    WorkQueue<TileTask> queue;
+    PassLatch latch;
+    std::atomic<std::uint64_t> rays{0};
+    auto cancelled = [&] { return cancel && cancel->load(std::memory_order_relaxed); };
+
+    std::vector<std::thread> workers;
+    for (int t = 0; t < threads; ++t) {
+        workers.emplace_back([&] {
+            PathStats local;
+            while (std::optional<TileTask> task = queue.pop()) {
+                std::uint64_t paths = 0;
+                if (!cancelled()) {
+                    for (int y = task->y0; y < task->y1; ++y)
+                        for (int x = task->x0; x < task->x1; ++x)
+                            render_pixel(scene, settings, camera, x, y, task->first_sample,
+                                         task->end_sample, film, local);
+                    paths = std::uint64_t(task->x1 - task->x0) * (task->y1 - task->y0) *
+                            (task->end_sample - task->first_sample);
+                }
+                latch.finished_one(paths);
+            }
+            rays.fetch_add(local.rays);
+        });
+    }
+
+    // Producer: one pass at a time, so a pixel never gets samples out of order.
+    const int ts = settings.tile_size;
+    for (int first = 0; first < settings.spp && !cancelled(); first += pass_spp) {
+        const int end = std::min(settings.spp, first + pass_spp);
+        latch.reset();
+        int tiles = 0;
+        for (int y0 = 0; y0 < settings.height; y0 += ts)
+            for (int x0 = 0; x0 < settings.width; x0 += ts, ++tiles)
+                queue.push({x0, y0, std::min(x0 + ts, settings.width),
+                            std::min(y0 + ts, settings.height), first, end});
+        while (!latch.wait_for(tiles, std::chrono::milliseconds(200)))
+            if (progress) progress(latch.paths(), total_paths);
+        if (!cancelled()) ++stats.passes_completed;
+    }
+    queue.close();
+    for (std::thread& w : workers) w.join();
+
+    stats.paths = latch.paths();
+    stats.rays = rays.load();
+    stats.cancelled = cancelled() && stats.passes_completed < stats.passes_total;
+    stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (progress) progress(stats.paths, total_paths);
+    return stats;
+}
+
+}  // namespace spt

@@ -1,0 +1,21 @@
+#include "scene/effects.h"
+
+namespace spt {
+
+std::string Effects::describe() const {
+    std::string s;
+    auto add = [&](bool on, const char* name) {
+        if (!on) return;
+        if (!s.empty()) s += ", ";
+        s += name;
+    };
+    add(point_lights, "point lights (shadow rays)");
+    add(emissive_surfaces, "emissive surfaces");
+    add(background, "environment light");
+    add(mirror, "mirror reflection");
+    add(transmission, "dielectric transmission");
+    add(dispersion, "dispersion");
+    return s.empty() ? "none" : s;
+}
+
+}  // namespace spt

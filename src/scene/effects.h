@@ -1,0 +1,19 @@
+// The set of effects a scene calls for, found once at load time. The integrator runs only
+// what is in the set and the program prints it.
+#pragma once
+#include <string>
+
+namespace spt {
+
+struct Effects {
+    bool point_lights = false;       ///< next-event estimation with shadow rays
+    bool emissive_surfaces = false;  ///< emission found by paths that hit surfaces
+    bool background = false;         ///< constant environment for escaping rays
+    bool mirror = false;             ///< perfect specular reflection
+    bool transmission = false;       ///< Fresnel dielectrics
+    bool dispersion = false;         ///< wavelength-dependent index: hero set splits
+
+    std::string describe() const;
+};
+
+}  // namespace spt

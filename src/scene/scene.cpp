@@ -1,0 +1,98 @@
+// Scene validation (every value checked, with a message naming what is wrong) and the
+// analysis of which effects the scene calls for.
+#include "scene/scene.h"
+
+#include <cmath>
+#include <sstream>
+
+namespace spt {
+
+namespace {
+
+void require(bool ok, const std::string& message) {
+    if (!ok) throw SceneError(message);
+}
+
+bool finite(const Vec3& v) { return is_finite(v); }
+
+/// Checks a spectrum over the sampled range: finite, within [lo, hi].
+void check_spectrum(const Spectrum& s, const std::string& what, float lo, float hi) {
+    for (float l = kLambdaMin; l <= kLambdaMax; l += 1.f) {
+        const float v = s.eval(l);
+        std::ostringstream msg;
+        msg << what << " is " << v << " at " << l << " nm; expected a finite value in [" << lo
+            << ", " << hi << "]";
+        require(std::isfinite(v) && v >= lo && v <= hi, msg.str());
+    }
+}
+
+}  // namespace
+
+int Scene::add_material(Material m) {
+    materials.push_back(std::move(m));
+    return static_cast<int>(materials.size()) - 1;
+}
+
+void Scene::finalize() {
+    const float big = 1e30f;
+    for (const Material& m : materials) {
+        const std::string who = "material '" + m.name + "'";
+        check_spectrum(m.kd, who + " kd", 0.f, 1.f);
+        check_spectrum(m.ks, who + " ks", 0.f, 1.f);
+        check_spectrum(m.kt, who + " kt", 0.f, 1.f);
+        check_spectrum(m.emission, who + " emission", 0.f, big);
+        if (m.has_transmission()) check_spectrum(m.eta, who + " index of refraction", 1.f, 100.f);
+        // Energy conservation at every wavelength, for both what the renderer samples (bins)
+        // and the exact source (so a scene is valid whatever --spectral-bins says).
+        for (float l = kLambdaMin; l <= kLambdaMax; l += 1.f) {
+            const double binned = double(m.kd.eval(l)) + m.ks.eval(l) + m.kt.eval(l);
+            const double exact = m.kd.source().eval(l) + m.ks.source().eval(l) + m.kt.source().eval(l);
+            std::ostringstream msg;
+            msg << who << ": kd + ks + kt = " << std::max(binned, exact) << " at " << l
+                << " nm; expected at most 1 (a surface cannot reflect more than it receives)";
+            require(binned <= 1.0 + 1e-6 && exact <= 1.0 + 1e-6, msg.str());
+        }
+    }
+    auto check_material_index = [&](int index, const std::string& who) {
+        require(index >= 0 && index < static_cast<int>(materials.size()),
+                who + " refers to a material that does not exist");
+    };
+    for (const Sphere& s : spheres) {
+        require(finite(s.center), "sphere centre must be finite");
+        require(std::isfinite(s.radius) && s.radius > 0.f, "sphere radius must be > 0 and finite");
+        check_material_index(s.material, "a sphere");
+    }
+    for (const Plane& p : planes) {
+        require(finite(p.normal) && std::isfinite(p.offset), "plane must be finite");
+        require(std::fabs(length(p.normal) - 1.f) < 1e-4f, "plane normal must be unit length");
+        check_material_index(p.material, "a plane");
+    }
+    for (const PointLight& l : point_lights) {
+        require(finite(l.position), "point light position must be finite");
+        check_spectrum(l.intensity, "point light intensity", 0.f, big);
+    }
+    check_spectrum(background, "background radiance", 0.f, big);
+    require(width > 0 && height > 0 && spp > 0, "image size and spp must be positive");
+    require(finite(camera.position) && finite(camera.look_at) && finite(camera.up),
+            "camera vectors must be finite");
+    require(length(cross(camera.look_at - camera.position, camera.up)) > 0.f,
+            "camera up vector must not be parallel to the viewing direction");
+    require(camera.vfov_degrees > 0.f && camera.vfov_degrees < 180.f,
+            "camera field of view must be in (0, 180) degrees");
+
+    // Which effects are called for: only materials that some shape uses count.
+    effects = Effects{};
+    effects.point_lights = !point_lights.empty();
+    effects.background = !background.is_zero();
+    auto analyse = [&](int index) {
+        const Material& m = materials[index];
+        effects.emissive_surfaces |= m.is_emissive();
+        effects.mirror |= m.has_mirror() || m.has_transmission();
+        effects.transmission |= m.has_transmission();
+        effects.dispersion |= m.is_dispersive();
+    };
+    for (const Sphere& s : spheres) analyse(s.material);
+    for (const Plane& p : planes) analyse(p.material);
+}
+
+}  // namespace spt

@@ -1,0 +1,62 @@
+// Spectrum: an analytic source plus its N-bin sampling over [380, 780] nm. The renderer
+// evaluates the bins (fast, the default) or the source itself (--spectral-bins exact).
+#pragma once
+#include <vector>
+
+#include "spectral/sampled.h"
+#include "spectral/spectrum_source.h"
+
+namespace spt {
+
+/// How spectra are represented in a scene: N bins, or exact evaluation of the sources.
+struct SpectralResolution {
+    static constexpr int kExact = 0;
+    static constexpr int kMinBins = 1, kMaxBins = 1024, kDefaultBins = 16;
+    int bins = kDefaultBins;  ///< kExact (0) means no binning
+};
+
+class Spectrum {
+public:
+    static constexpr float kBinMin = 380.f, kBinMax = 780.f;
+
+    Spectrum() : Spectrum(SpectrumSource::constant(0.0), SpectralResolution{}) {}
+    Spectrum(SpectrumSource source, SpectralResolution resolution);
+
+    /// Value at λ (nm): bins are point samples at bin centres, linearly interpolated between
+    /// centres and held constant beyond the first and last centre. Exact mode evaluates the source.
+    float eval(float lambda_nm) const {
+        if (m_constant) return m_constant_value;
+        if (m_bins.empty()) return static_cast<float>(m_source.eval(lambda_nm));
+        const float x = (lambda_nm - kBinMin) * m_inv_bin_width - 0.5f;
+        if (x <= 0.f) return m_bins.front();
+        const int last = static_cast<int>(m_bins.size()) - 1;
+        if (x >= static_cast<float>(last)) return m_bins.back();
+        const int i = static_cast<int>(x);
+        const float t = x - static_cast<float>(i);
+        return lerp(t, m_bins[i], m_bins[i + 1]);
+    }
+
+    SampledSpectrum sample(const SampledWavelengths& w) const {
+        SampledSpectrum s;
+        for (int i = 0; i < kLambdaCount; ++i) s[i] = eval(w.lambda[i]);
+        return s;
+    }
+
+    const SpectrumSource& source() const { return m_source; }
+    const std::vector<float>& bins() const { return m_bins; }
+    bool is_constant() const { return m_constant; }
+    bool is_zero() const { return m_constant && m_constant_value == 0.f; }
+    /// Largest and smallest value the renderer can see (bins, or a dense scan in exact mode).
+    float max_value() const { return m_max; }
+    float min_value() const { return m_min; }
+
+private:
+    SpectrumSource m_source;
+    std::vector<float> m_bins;  ///< empty in exact mode
+    float m_inv_bin_width = 0.f;
+    bool m_constant = false;
+    float m_constant_value = 0.f;
+    float m_max = 0.f, m_min = 0.f;
+};
+
+}  // namespace spt

@@ -1,0 +1,678 @@
+// Tests for the image writers: each file is parsed back by an independent reader written here
+// (PPM, PFM, EXR header + offsets, PNG chunks + a small inflater) and for the atomic file write.
+#include <gtest/gtest-spi.h>
+#include <gtest/gtest.h>
+
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <limits>
+#include <map>
+#include <random>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "io/atomic_file.h"
+#include "io/image.h"
+#include "io/image_writer.h"
+
+namespace spt {
+namespace {
+
+namespace fs = std::filesystem;
+
+Image make_image(int w, int h, const std::function<float(int, int, int)>& value) {
+    Image image{w, h, std::vector<float>(static_cast<std::size_t>(w) * h * 3)};
+    for (int y = 0; y < h; ++y) {
+        for (int x = 0; x < w; ++x) {
+            for (int c = 0; c < 3; ++c) image.pixel(x, y)[c] = value(x, y, c);
+        }
+    }
+    return image;
+}
+
+std::uint32_t le32(const std::string& s, std::size_t at) {
+    std::uint32_t v = 0;
+    for (int i = 3; i >= 0; --i) v = v << 8 | static_cast<std::uint8_t>(s.at(at + i));
+    return v;
+}
+std::uint64_t le64(const std::string& s, std::size_t at) {
+    return le32(s, at) | static_cast<std::uint64_t>(le32(s, at + 4)) << 32;
+}
+float le_float(const std::string& s, std::size_t at) { return std::bit_cast<float>(le32(s, at)); }
+std::uint32_t be32(const std::string& s, std::size_t at) {
+    std::uint32_t v = 0;
+    for (int i = 0; i < 4; ++i) v = v << 8 | static_cast<std::uint8_t>(s.at(at + i));
+    return v;
+}
+
+std::string read_file(const fs::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+/// A fresh directory per test, removed afterwards.
+class TempDir : public ::testing::Test {
+protected:
+    void SetUp() override {
+        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+        dir_ = fs::temp_directory_path() /
+               (std::string("spt_io_") + info->test_suite_name() + "_" + info->name() + "_" +
+                std::to_string(std::random_device{}()));
+        fs::create_directories(dir_);
+    }
+    void TearDown() override { fs::remove_all(dir_); }
+    std::vector<std::string> entries() const {
+        std::vector<std::string> names;
+        for (const auto& e : fs::directory_iterator(dir_)) names.push_back(e.path().filename());
+        return names;
+    }
+    bool has_temp_file() const {
+        for (const std::string& name : entries()) {
+            if (name.find(".tmp-") != std::string::npos) return true;
+        }
+        return false;
+    }
+    fs::path dir_;
+};
+
+// ---- format from path -----------------------------------------------------------------------
+
+TEST(ImageFormatFromPath, ByExtensionCaseInsensitive) {
+    EXPECT_EQ(image_format_from_path("x.PNG"), ImageFormat::Png);
+    EXPECT_EQ(image_format_from_path(".PNG"), ImageFormat::Png);
+    EXPECT_EQ(image_format_from_path("out/render.exr"), ImageFormat::Exr);
+    EXPECT_EQ(image_format_from_path("a.b.pfm"), ImageFormat::Pfm);
+    EXPECT_EQ(image_format_from_path("a.PpM"), ImageFormat::Ppm);
+    EXPECT_EQ(image_format_from_path("noext"), std::nullopt);
+    EXPECT_EQ(image_format_from_path("dir.png/noext"), std::nullopt);
+    EXPECT_EQ(image_format_from_path("x.bmp"), std::nullopt);
+    EXPECT_EQ(image_format_from_path(".bmp"), std::nullopt);
+}
+
+// ---- PPM ------------------------------------------------------------------------------------
+
+struct Ppm {
+    std::string max_comment;
+    int width = 0, height = 0;
+    std::uint64_t maxval = 0;
+    std::vector<std::uint64_t> values;
+};
+
+Ppm parse_ppm(const std::string& text) {
+    std::istringstream in(text);
+    std::string magic, comment;
+    std::getline(in, magic);
+    std::getline(in, comment);
+    EXPECT_EQ(magic, "P3");
+    EXPECT_EQ(comment.rfind("#MAX=", 0), 0u) << comment;
+    Ppm ppm;
+    ppm.max_comment = comment.substr(5);
+    in >> ppm.width >> ppm.height >> ppm.maxval;
+    for (std::uint64_t q; in >> q;) ppm.values.push_back(q);
+    EXPECT_TRUE(in.eof()) << "non-integer token in PPM body";
+    return ppm;
+}
+
+TEST(PpmWriter, MaxCommentAndValuesReconstruct) {
+    const Image image = make_image(7, 5, [](int x, int y, int c) {
+        return 0.001f + 3.7f * std::sin(0.3f * x + 0.7f * y + c) * std::sin(0.3f * x + y + c);
+    });
+    float true_max = 0.0f;
+    for (float v : image.rgb) true_max = std::max(true_max, v);
+
+    const Ppm ppm = parse_ppm(encode_image(image, ImageFormat::Ppm, {}));
+    EXPECT_EQ(std::strtof(ppm.max_comment.c_str(), nullptr), true_max);  // round-trips exactly
+    EXPECT_EQ(ppm.width, 7);
+    EXPECT_EQ(ppm.height, 5);
+    EXPECT_EQ(ppm.maxval, 1ull << 25);
+    ASSERT_EQ(ppm.values.size(), image.rgb.size());
+    const double step = static_cast<double>(true_max) / static_cast<double>(ppm.maxval);
+    for (std::size_t i = 0; i < image.rgb.size(); ++i) {
+        const float v = image.rgb[i];
+        const double expected = v > 0.0f ? v : 0.0;  // negatives clamp to 0
+        EXPECT_NEAR(static_cast<double>(ppm.values[i]) * step, expected, step) << i;
+        EXPECT_LE(ppm.values[i], ppm.maxval);
+    }
+}
+
+TEST(PpmWriter, NegativeAndNonFiniteClampToZero) {
+    const float inf = std::numeric_limits<float>::infinity();
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    const Image image{2, 1, {-1.0f, nan, inf, 0.5f, 2.0f, -inf}};
+    ImageWriteOptions options;
+    options.color_resolution = 1000;
+    const Ppm ppm = parse_ppm(encode_image(image, ImageFormat::Ppm, options));
+    EXPECT_EQ(ppm.max_comment, "2");  // infinity does not count towards the max
+    EXPECT_EQ(ppm.maxval, 1000u);
+    EXPECT_EQ(ppm.values, (std::vector<std::uint64_t>{0, 0, 0, 250, 1000, 0}));
+}
+
+TEST(PpmWriter, AllZeroImage) {
+    const Image image{1, 2, std::vector<float>(6, 0.0f)};
+    const Ppm ppm = parse_ppm(encode_image(image, ImageFormat::Ppm, {}));
+    EXPECT_EQ(ppm.max_comment, "0");
+    EXPECT_EQ(ppm.values, std::vector<std::uint64_t>(6, 0));
+}
+
+TEST(PpmWriter, RejectsZeroResolution) {
+    ImageWriteOptions options;
+    options.color_resolution = 0;
+    EXPECT_THROW(encode_image(Image{1, 1, {1, 1, 1}}, ImageFormat::Ppm, options),
+                 std::invalid_argument);
+}
+
+// ---- PFM ------------------------------------------------------------------------------------
+
+TEST(PfmWriter, BitExactBottomToTop) {
+    const Image image = make_image(3, 4, [](int x, int y, int c) {
+        return y == 0 ? 100.0f + x * 3 + c : 0.1f * (y * 9 + x * 3 + c) - 0.55f;
+    });
+    const std::string bytes = encode_image(image, ImageFormat::Pfm, {});
+    const std::string header = "PF\n3 4\n-1.0\n";
+    ASSERT_EQ(bytes.substr(0, header.size()), header);
+    ASSERT_EQ(bytes.size(), header.size() + image.rgb.size() * 4);
+    for (int y = 0; y < 4; ++y) {
+        const std::size_t row_start = header.size() + static_cast<std::size_t>(3 - y) * 3 * 3 * 4;
+        for (int i = 0; i < 9; ++i) {
+            EXPECT_EQ(std::bit_cast<std::uint32_t>(le_float(bytes, row_start + 4 * i)),
+                      std::bit_cast<std::uint32_t>(image.pixel(0, y)[i]))
+                << "y=" << y << " i=" << i;
+        }
+    }
+    // The last stored row is the top row (values >= 100), the first stored row is not.
+    EXPECT_EQ(le_float(bytes, bytes.size() - 4), 108.0f);
+    EXPECT_LT(le_float(bytes, header.size()), 100.0f);
+}
+
+// ---- EXR ------------------------------------------------------------------------------------
+
+struct ExrAttribute {
+    std::string type, value;
+};
+
+std::string read_cstring(const std::string& s, std::size_t& at) {
+    const std::size_t end = s.find('\0', at);
+    if (end == std::string::npos) throw std::runtime_error("unterminated string");
+    std::string text = s.substr(at, end - at);
+    at = end + 1;
+    return text;
+}
+
+/// Attributes by name; `at` ends just past the header's terminating null byte.
+std::map<std::string, ExrAttribute> parse_exr_header(const std::string& s, std::size_t& at) {
+    std::map<std::string, ExrAttribute> attributes;
+    at = 8;
+    while (s.at(at) != '\0') {
+        const std::string name = read_cstring(s, at);
+        ExrAttribute a;
+        a.type = read_cstring(s, at);
+        const std::uint32_t size = le32(s, at);
+        a.value = s.substr(at + 4, size);
+        at += 4 + size;
+        EXPECT_TRUE(attributes.emplace(name, a).second) << "duplicate attribute " << name;
+    }
+    ++at;
+    return attributes;
+}
+
+TEST(ExrWriter, HeaderHasMagicVersionAttributesAndSortedChannels) {
+    const Image image = make_image(5, 3, [](int x, int y, int c) { return x + 10.0f * y + c; });
+    ImageWriteOptions options;
+    options.chromaticities = {{0.7347f, 0.2653f}, {0.0f, 1.0f}, {0.0001f, -0.077f}, {0.32168f,
+                                                                                      0.33767f}};
+    const std::string s = encode_image(image, ImageFormat::Exr, options);
+    EXPECT_EQ(le32(s, 0), 20000630u);
+    EXPECT_EQ(le32(s, 4), 2u);  // version 2, no flags (single-part scanline)
+    std::size_t at = 0;
+    const auto attrs = parse_exr_header(s, at);
+
+    const std::map<std::string, std::string> expected_types = {
+        {"channels", "chlist"},         {"compression", "compression"},
+        {"dataWindow", "box2i"},        {"displayWindow", "box2i"},
+        {"lineOrder", "lineOrder"},     {"pixelAspectRatio", "float"},
+        {"screenWindowCenter", "v2f"},  {"screenWindowWidth", "float"},
+        {"chromaticities", "chromaticities"}};
+    for (const auto& [name, type] : expected_types) {
+        ASSERT_TRUE(attrs.count(name)) << name;
+        EXPECT_EQ(attrs.at(name).type, type) << name;
+    }
+    EXPECT_EQ(attrs.at("compression").value, std::string(1, '\0'));
+    EXPECT_EQ(attrs.at("lineOrder").value, std::string(1, '\0'));
+    for (const char* window : {"dataWindow", "displayWindow"}) {
+        const std::string& box = attrs.at(window).value;
+        ASSERT_EQ(box.size(), 16u);
+        EXPECT_EQ(le32(box, 0), 0u);
+        EXPECT_EQ(le32(box, 4), 0u);
+        EXPECT_EQ(le32(box, 8), 4u);
+        EXPECT_EQ(le32(box, 12), 2u);
+    }
+    EXPECT_EQ(le_float(attrs.at("pixelAspectRatio").value, 0), 1.0f);
+    EXPECT_EQ(le_float(attrs.at("screenWindowWidth").value, 0), 1.0f);
+
+    const std::string& chroma = attrs.at("chromaticities").value;
+    ASSERT_EQ(chroma.size(), 32u);
+    const Chromaticities& c = options.chromaticities;
+    const float expected_chroma[8] = {c.red[0],  c.red[1],  c.green[0], c.green[1],
+                                      c.blue[0], c.blue[1], c.white[0], c.white[1]};
+    for (int i = 0; i < 8; ++i) EXPECT_EQ(le_float(chroma, 4 * i), expected_chroma[i]) << i;
+
+    // chlist: name, int32 pixel type, pLinear + 3 reserved, int32 x/y sampling; then a null.
+    const std::string& chlist = attrs.at("channels").value;
+    std::size_t p = 0;
+    std::vector<std::string> names;
+    while (chlist.at(p) != '\0') {
+        names.push_back(read_cstring(chlist, p));
+        EXPECT_EQ(le32(chlist, p), 2u) << "pixel type FLOAT";
+        EXPECT_EQ(le32(chlist, p + 4), 0u);
+        EXPECT_EQ(le32(chlist, p + 8), 1u);
+        EXPECT_EQ(le32(chlist, p + 12), 1u);
+        p += 16;
+    }
+    EXPECT_EQ(p + 1, chlist.size());
+    EXPECT_EQ(names, (std::vector<std::string>{"B", "G", "R"}));
+}
+
+TEST(ExrWriter, PixelsReadBackViaOffsetTable) {
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    Image image = make_image(6, 4, [](int x, int y, int c) {
+        return std::ldexp(1.0f + 0.125f * c, x - y) * (x % 2 ? -1.0f : 1.0f);
+    });
+    image.pixel(1, 2)[1] = nan;
+    image.pixel(5, 3)[0] = std::numeric_limits<float>::denorm_min();
+
+    const std::string s = encode_image(image, ImageFormat::Exr, {});
+    std::size_t at = 0;
+    parse_exr_header(s, at);
+    const std::size_t data_bytes = 6 * 3 * 4;
+    for (int y = 0; y < 4; ++y) {
+        const std::uint64_t offset = le64(s, at + 8 * y);
+        ASSERT_LE(offset + 8 + data_bytes, s.size());
+        EXPECT_EQ(le32(s, offset), static_cast<std::uint32_t>(y));
+        EXPECT_EQ(le32(s, offset + 4), data_bytes);
+        const int channel_of[3] = {2, 1, 0};  // stored B, G, R
+        for (int k = 0; k < 3; ++k) {
+            for (int x = 0; x < 6; ++x) {
+                const std::size_t pos = offset + 8 + (static_cast<std::size_t>(k) * 6 + x) * 4;
+                EXPECT_EQ(le32(s, pos), std::bit_cast<std::uint32_t>(image.pixel(x, y)[channel_of[k]]))
+                    << "x=" << x << " y=" << y << " k=" << k;
+            }
+        }
+        if (y == 3) {
+            EXPECT_EQ(offset + 8 + data_bytes, s.size());  // nothing trailing
+        }
+    }
+}
+
+// ---- PNG ------------------------------------------------------------------------------------
+
+std::uint32_t reference_crc32(const std::string& bytes) {  // bitwise, unlike the writer's table
+    std::uint32_t c = 0xFFFFFFFFu;
+    for (char ch : bytes) {
+        c ^= static_cast<std::uint8_t>(ch);
+        for (int k = 0; k < 8; ++k) c = (c >> 1) ^ (0xEDB88320u & (0u - (c & 1)));
+    }
+    return ~c;
+}
+
+struct PngChunk {
+    std::string type, data;
+};
+
+std::vector<PngChunk> parse_png_chunks(const std::string& s) {
+    EXPECT_EQ(s.substr(0, 8), std::string("\x89PNG\r\n\x1a\n", 8));
+    std::vector<PngChunk> chunks;
+    for (std::size_t at = 8; at < s.size();) {
+        const std::uint32_t length = be32(s, at);
+        PngChunk chunk{s.substr(at + 4, 4), s.substr(at + 8, length)};
+        EXPECT_EQ(be32(s, at + 8 + length), reference_crc32(chunk.type + chunk.data))
+            << "CRC of " << chunk.type;
+        chunks.push_back(chunk);
+        at += 12 + length;
+    }
+    return chunks;
+}
+
+/// Inflater for what the writer emits: zlib wrapper, stored and fixed-Huffman blocks.
+struct Inflated {
+    std::vector<std::uint8_t> data;
+    int stored_blocks = 0, fixed_blocks = 0;
+};
+
+class Inflater {
+public:
+    explicit Inflater(const std::string& zlib) : in_(zlib) {}
+
+    Inflated run() {
+        if (in_.size() < 6) throw std::runtime_error("zlib stream too short");
+        const int cmf = byte(0), flg = byte(1);
+        if ((cmf & 0x0f) != 8 || (cmf * 256 + flg) % 31 != 0 || (flg & 0x20)) {
+            throw std::runtime_error("bad zlib header");
+        }
+        pos_ = 2;
+        Inflated result;
+        for (bool final_block = false; !final_block;) {
+            final_block = bits(1);
+            const int type = static_cast<int>(bits(2));
+            if (type == 0) {
+                ++result.stored_blocks;
+                bit_count_ = 0;  // skip to the byte boundary
+                const std::uint32_t len = bits(16), nlen = bits(16);
+                if ((len ^ 0xffff) != nlen) throw std::runtime_error("bad stored length");
+                for (std::uint32_t i = 0; i < len; ++i) result.data.push_back(next_byte());
+            } else if (type == 1) {
+                ++result.fixed_blocks;
+                inflate_fixed(result.data);
+            } else {
+                throw std::runtime_error("unexpected block type " + std::to_string(type));
+            }
+        }
+        std::uint32_t a = 1, b = 0;
+        for (std::uint8_t v : result.data) a = (a + v) % 65521, b = (b + a) % 65521;
+        if (pos_ + 4 != in_.size()) throw std::runtime_error("trailing or missing bytes");
+        std::uint32_t adler = 0;
+        for (int i = 0; i < 4; ++i) adler = adler << 8 | byte(pos_ + i);
+        if (adler != (b << 16 | a)) throw std::runtime_error("Adler-32 mismatch");
+        return result;
+    }
+
+private:
+    int byte(std::size_t at) const { return static_cast<std::uint8_t>(in_.at(at)); }
+    std::uint8_t next_byte() { return static_cast<std::uint8_t>(byte(pos_++)); }
+    std::uint32_t bits(int n) {  // least significant bit first
+        std::uint32_t v = 0;
+        for (int i = 0; i < n; ++i) {
+            if (bit_count_ == 0) bit_buffer_ = next_byte(), bit_count_ = 8;
+            v |= static_cast<std::uint32_t>(bit_buffer_ & 1) << i;
+            bit_buffer_ >>= 1;
+            --bit_count_;
+        }
+        return v;
+    }
+    std::uint32_t code(int n) {  // Huffman codes: most significant bit first
+        std::uint32_t v = 0;
+        for (int i = 0; i < n; ++i) v = v << 1 | bits(1);
+        return v;
+    }
+    int fixed_litlen() {
+        std::uint32_t c = code(7);
+        if (c <= 0x17) return 256 + static_cast<int>(c);
+        c = c << 1 | bits(1);
+        if (c >= 0x30 && c <= 0xBF) return static_cast<int>(c - 0x30);
+        if (c >= 0xC0 && c <= 0xC7) return 280 + static_cast<int>(c - 0xC0);
+        c = c << 1 | bits(1);
+        if (c >= 0x190 && c <= 0x1FF) return 144 + static_cast<int>(c - 0x190);
+        throw std::runtime_error("bad fixed code");
+    }
+    void inflate_fixed(std::vector<std::uint8_t>& out) {
+        static const int kLenBase[29] = {3,  4,  5,  6,  7,  8,  9,  10, 11,  13,  15,  17,  19,  23, 27,
+                                         31, 35, 43, 51, 59, 67, 83, 99, 115, 131, 163, 195, 227, 258};
+        static const int kLenExtra[29] = {0, 0, 0, 0, 0, 0, 0, 0, 1, 1, 1, 1, 2, 2, 2,
+                                          2, 3, 3, 3, 3, 4, 4, 4, 4, 5, 5, 5, 5, 0};
+        for (;;) {
+            const int sym = fixed_litlen();
+            if (sym < 256) {
+                out.push_back(static_cast<std::uint8_t>(sym));
+                continue;
+            }
+            if (sym == 256) return;
+            if (sym > 285) throw std::runtime_error("bad length symbol");
+            const int length = kLenBase[sym - 257] + static_cast<int>(bits(kLenExtra[sym - 257]));
+            const int d = static_cast<int>(code(5));
+            if (d > 29) throw std::runtime_error("bad distance symbol");
+            // Distance bases: 1..4, then doubling pairs with d/2 - 1 extra bits.
+            const int extra = d < 4 ? 0 : d / 2 - 1;
+            const int base = d < 4 ? d + 1 : (1 << (extra + 1)) + (d % 2) * (1 << extra) + 1;
+            const std::size_t distance = base + bits(extra);
+            if (distance > out.size() || distance > 32768) throw std::runtime_error("bad distance");
+            for (int i = 0; i < length; ++i) out.push_back(out[out.size() - distance]);
+        }
+    }
+
+    const std::string& in_;
+    std::size_t pos_ = 0;
+    std::uint8_t bit_buffer_ = 0;
+    int bit_count_ = 0;
+};
+
+struct DecodedPng {
+    int width = 0, height = 0;
+    std::vector<std::uint8_t> rgb;
+    Inflated stream;
+    std::size_t file_size = 0;
+};
+
+int paeth(int a, int b, int c) {
+    const int p = a + b - c, pa = std::abs(p - a), pb = std::abs(p - b), pc = std::abs(p - c);
+    return pa <= pb && pa <= pc ? a : pb <= pc ? b : c;
+}
+
+DecodedPng decode_png(const std::string& file) {
+    const std::vector<PngChunk> chunks = parse_png_chunks(file);
+    DecodedPng png;
+    png.file_size = file.size();
+    EXPECT_GE(chunks.size(), 3u);
+    EXPECT_EQ(chunks.front().type, "IHDR");
+    EXPECT_EQ(chunks.back().type, "IEND");
+    const std::string& ihdr = chunks.front().data;
+    EXPECT_EQ(ihdr.size(), 13u);
+    png.width = static_cast<int>(be32(ihdr, 0));
+    png.height = static_cast<int>(be32(ihdr, 4));
+    EXPECT_EQ(ihdr.substr(8), std::string("\x08\x02\x00\x00\x00", 5));  // 8-bit RGB, defaults
+    std::string zlib;
+    bool seen_srgb = false, seen_idat = false;
+    for (const PngChunk& chunk : chunks) {
+        if (chunk.type == "sRGB") {
+            EXPECT_FALSE(seen_idat) << "sRGB must precede IDAT";
+            EXPECT_EQ(chunk.data.size(), 1u);
+            seen_srgb = true;
+        }
+        if (chunk.type == "IDAT") zlib += chunk.data, seen_idat = true;
+    }
+    EXPECT_TRUE(seen_srgb);
+    png.stream = Inflater(zlib).run();
+
+    const std::size_t row_bytes = static_cast<std::size_t>(png.width) * 3;
+    EXPECT_EQ(png.stream.data.size(), (row_bytes + 1) * png.height);
+    png.rgb.assign(row_bytes * png.height, 0);
+    for (int y = 0; y < png.height; ++y) {
+        const std::uint8_t* in = &png.stream.data.at((row_bytes + 1) * y);
+        std::uint8_t* row = &png.rgb[row_bytes * y];
+        const std::uint8_t* above = y > 0 ? row - row_bytes : nullptr;
+        for (std::size_t i = 0; i < row_bytes; ++i) {
+            const int a = i >= 3 ? row[i - 3] : 0, b = above ? above[i] : 0;
+            const int c = i >= 3 && above ? above[i - 3] : 0;
+            int predictor = 0;
+            switch (in[0]) {
+                case 0: predictor = 0; break;
+                case 1: predictor = a; break;
+                case 2: predictor = b; break;
+                case 3: predictor = (a + b) / 2; break;
+                case 4: predictor = paeth(a, b, c); break;
+                default: ADD_FAILURE() << "bad filter type " << int(in[0]); return png;
+            }
+            row[i] = static_cast<std::uint8_t>(in[1 + i] + predictor);
+        }
+    }
+    return png;
+}
+
+TEST(PngWriter, SignatureChunksAndCrcs) {
+    const std::string s = encode_image(Image{2, 1, {0, 0, 0, 1, 1, 1}}, ImageFormat::Png, {});
+    const std::vector<PngChunk> chunks = parse_png_chunks(s);
+    ASSERT_GE(chunks.size(), 4u);
+    EXPECT_EQ(chunks.front().type, "IHDR");
+    EXPECT_EQ(chunks.back().type, "IEND");
+    EXPECT_TRUE(chunks.back().data.empty());
+    // A corrupted byte must be caught by the CRC check (i.e. the check above can fail).
+    std::string corrupt = s;
+    corrupt[20] ^= 1;  // inside IHDR's data
+    EXPECT_NONFATAL_FAILURE(parse_png_chunks(corrupt), "CRC of IHDR");
+}
+
+TEST(PngWriter, SrgbTransferClampAndExposure) {
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    // Expected 8-bit codes computed by hand from IEC 61966-2-1.
+    const std::vector<float> linear = {0.0f,  1.0f, 0.5f,  0.18f, 0.002f, 0.0031308f,
+                                       -0.5f, nan,  7.0f,  0.01f, 0.25f,  0.8f};
+    const std::vector<int> expected = {0, 255, 188, 118, 7, 10, 0, 0, 255, 25, 137, 231};
+    const Image image{4, 1, linear};
+    const DecodedPng png = decode_png(encode_image(image, ImageFormat::Png, {}));
+    ASSERT_EQ(png.width, 4);
+    ASSERT_EQ(png.height, 1);
+    for (std::size_t i = 0; i < expected.size(); ++i) EXPECT_EQ(png.rgb[i], expected[i]) << i;
+
+    ImageWriteOptions brighter;
+    brighter.exposure_stops = 1.0;  // 0.25 -> 0.5, 0.5 -> 1.0
+    const DecodedPng bright = decode_png(encode_image(image, ImageFormat::Png, brighter));
+    EXPECT_EQ(bright.rgb[2], 255);
+    EXPECT_EQ(bright.rgb[10], 188);
+}
+
+TEST(PngWriter, SmoothGradientCompressesWell) {
+    const int n = 256;
+    const Image image = make_image(n, n, [](int x, int y, int c) {
+        const float t = c == 0 ? x / 255.0f : c == 1 ? y / 255.0f : (x + y) / 510.0f;
+        return t * t;
+    });
+    const DecodedPng png = decode_png(encode_image(image, ImageFormat::Png, {}));
+    ASSERT_EQ(png.width, n);
+    ASSERT_EQ(png.height, n);
+    const std::size_t raw = static_cast<std::size_t>(n) * n * 3;
+    EXPECT_LT(png.file_size, raw / 10);
+    EXPECT_GT(png.stream.fixed_blocks, 0);
+    // Decoded bytes match an independent 8-bit encoding of the same values.
+    for (int y = 0; y < n; y += 17) {
+        for (int x = 0; x < n; x += 13) {
+            for (int c = 0; c < 3; ++c) {
+                const double v = image.pixel(x, y)[c];
+                const double s = v < 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1 / 2.4) - 0.055;
+                EXPECT_EQ(png.rgb[(static_cast<std::size_t>(y) * n + x) * 3 + c],
+                          std::lround(s * 255));
+            }
+        }
+    }
+}
+
+TEST(PngWriter, NoiseAndFlatRegionsUseStoredAndFixedBlocks) {
+    // Top half white noise (incompressible: stored blocks), bottom half flat (fixed Huffman);
+    // large enough for many blocks and for matches reaching back across block boundaries.
+    std::mt19937 rng(42);
+    std::uniform_real_distribution<float> uniform(0.0f, 1.0f);
+    const Image image = make_image(160, 200, [&](int x, int y, int c) {
+        return y < 100 ? uniform(rng) : (x / 40 + c) % 3 * 0.3f;
+    });
+    const DecodedPng png = decode_png(encode_image(image, ImageFormat::Png, {}));
+    EXPECT_GT(png.stream.stored_blocks, 0);
+    EXPECT_GT(png.stream.fixed_blocks, 0);
+    ASSERT_EQ(png.rgb.size(), image.rgb.size());
+    for (std::size_t i = 0; i < png.rgb.size(); ++i) {
+        const double v = image.rgb[i];
+        const double s = v < 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1 / 2.4) - 0.055;
+        ASSERT_EQ(png.rgb[i], std::lround(s * 255)) << i;
+    }
+}
+
+TEST(PngWriter, SinglePixel) {
+    const DecodedPng png = decode_png(encode_image(Image{1, 1, {1, 0, 0.5f}}, ImageFormat::Png, {}));
+    EXPECT_EQ(png.rgb, (std::vector<std::uint8_t>{255, 0, 188}));
+}
+
+// ---- invalid images and atomic writes -------------------------------------------------------
+
+TEST(ImageWriter, RejectsInconsistentImage) {
+    EXPECT_THROW(encode_image(Image{2, 2, std::vector<float>(11)}, ImageFormat::Pfm, {}),
+                 std::invalid_argument);
+    EXPECT_THROW(encode_image(Image{0, 0, {}}, ImageFormat::Png, {}), std::invalid_argument);
+}
+
+using AtomicWrite = TempDir;
+
+TEST_F(AtomicWrite, ReplacesExistingFile) {
+    const std::string path = dir_ / "out.txt";
+    write_file_atomically(path, "old contents that are longer than the new ones");
+    write_file_atomically(path, "new");
+    EXPECT_EQ(read_file(path), "new");
+    EXPECT_EQ(entries(), std::vector<std::string>{"out.txt"});
+}
+
+TEST_F(AtomicWrite, MissingDirectoryThrowsWithPathAndOsError) {
+    const std::string path = dir_ / "no_such_dir" / "x.png";
+    try {
+        write_file_atomically(path, "data");
+        FAIL() << "no exception";
+    } catch (const std::runtime_error& e) {
+        EXPECT_EQ(std::string(e.what()), "cannot write '" + path + "': No such file or directory");
+    }
+    EXPECT_TRUE(entries().empty());
+}
+
+TEST_F(AtomicWrite, FailedRenameLeavesNoTempFile) {
+    // The target is a directory: the temporary file is written, then rename() fails.
+    const fs::path target = dir_ / "target.pfm";
+    fs::create_directory(target);
+    try {
+        write_file_atomically(target, "data");
+        FAIL() << "no exception";
+    } catch (const std::runtime_error& e) {
+        EXPECT_NE(std::string(e.what()).find(target.string()), std::string::npos) << e.what();
+    }
+    EXPECT_FALSE(has_temp_file());
+    EXPECT_TRUE(fs::is_directory(target));
+}
+
+using WriteImage = TempDir;
+
+TEST_F(WriteImage, WritesEncodedBytes) {
+    const Image image{2, 1, {0.1f, 0.2f, 0.3f, 0.4f, 0.5f, 0.6f}};
+    for (const char* name : {"a.png", "a.EXR", "a.pfm", "a.ppm"}) {
+        const std::string path = dir_ / name;
+        write_image(path, image, {});
+        EXPECT_EQ(read_file(path), encode_image(image, *image_format_from_path(path), {})) << name;
+    }
+    EXPECT_FALSE(has_temp_file());
+}
+
+TEST_F(WriteImage, UnsupportedExtensionNamesFile) {
+    const Image image{1, 1, {0, 0, 0}};
+    try {
+        write_image("x.bmp", image, {});
+        FAIL() << "no exception";
+    } catch (const std::runtime_error& e) {
+        EXPECT_EQ(std::string(e.what()),
+                  "unsupported image extension '.bmp' for 'x.bmp' (expected .png, .exr, .pfm, .ppm)");
+    }
+    try {
+        write_image("noext", image, {});
+        FAIL() << "no exception";
+    } catch (const std::runtime_error& e) {
+        EXPECT_NE(std::string(e.what()).find("'noext'"), std::string::npos) << e.what();
+    }
+}
+
+TEST_F(WriteImage, ErrorsNameTheFile) {
+    const std::string missing = dir_ / "missing" / "x.png";
+    try {
+        write_image(missing, Image{1, 1, {0, 0, 0}}, {});
+        FAIL() << "no exception";
+    } catch (const std::runtime_error& e) {
+        EXPECT_EQ(std::string(e.what()), "cannot write '" + missing + "': No such file or directory");
+    }
+    const std::string bad = dir_ / "bad.exr";
+    try {
+        write_image(bad, Image{2, 2, {}}, {});
+        FAIL() << "no exception";
+    } catch (const std::runtime_error& e) {
+        EXPECT_NE(std::string(e.what()).find(bad), std::string::npos) << e.what();
+    }
+    EXPECT_TRUE(entries().empty());
+}
+
+}  // namespace
+}  // namespace spt
