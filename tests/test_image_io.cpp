@@ -3,6 +3,7 @@
 #include <gtest/gtest-spi.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -339,10 +340,11 @@ std::vector<PngChunk> parse_png_chunks(const std::string& s) {
     return chunks;
 }
 
-/// Inflater for what the writer emits: zlib wrapper, stored and fixed-Huffman blocks.
+/// A small inflater (after RFC 1951 and zlib's puff.c): zlib wrapper, stored, fixed and dynamic
+/// blocks. Stricter than needed: prefix codes must be complete.
 struct Inflated {
     std::vector<std::uint8_t> data;
-    int stored_blocks = 0, fixed_blocks = 0;
+    int stored_blocks = 0, fixed_blocks = 0, dynamic_blocks = 0;
 };
 
 class Inflater {
@@ -368,9 +370,15 @@ public:
                 for (std::uint32_t i = 0; i < len; ++i) result.data.push_back(next_byte());
             } else if (type == 1) {
                 ++result.fixed_blocks;
-                inflate_fixed(result.data);
+                std::vector<int> litlen(288, 8);
+                std::fill(litlen.begin() + 144, litlen.begin() + 256, 9);
+                std::fill(litlen.begin() + 256, litlen.begin() + 280, 7);
+                inflate_codes(result.data, Code(litlen), Code(std::vector<int>(32, 5)));
+            } else if (type == 2) {
+                ++result.dynamic_blocks;
+                inflate_dynamic(result.data);
             } else {
-                throw std::runtime_error("unexpected block type " + std::to_string(type));
+                throw std::runtime_error("bad block type 3");
             }
         }
         std::uint32_t a = 1, b = 0;
@@ -383,6 +391,26 @@ public:
     }
 
 private:
+    /// A canonical prefix code: symbols sorted by code length, and counts per length.
+    struct Code {
+        explicit Code(const std::vector<int>& lengths) {
+            for (int len : lengths) ++count[len];
+            int left = 1;
+            for (int len = 1; len <= 15; ++len) {
+                left = 2 * left - count[len];
+                if (left < 0) throw std::runtime_error("over-subscribed code");
+            }
+            if (left != 0) throw std::runtime_error("incomplete code");
+            for (int len = 1; len <= 15; ++len) {
+                for (std::size_t s = 0; s < lengths.size(); ++s) {
+                    if (lengths[s] == len) symbols.push_back(static_cast<int>(s));
+                }
+            }
+        }
+        int count[16] = {};
+        std::vector<int> symbols;
+    };
+
     int byte(std::size_t at) const { return static_cast<std::uint8_t>(in_.at(at)); }
     std::uint8_t next_byte() { return static_cast<std::uint8_t>(byte(pos_++)); }
     std::uint32_t bits(int n) {  // least significant bit first
@@ -395,28 +423,50 @@ private:
         }
         return v;
     }
-    std::uint32_t code(int n) {  // Huffman codes: most significant bit first
-        std::uint32_t v = 0;
-        for (int i = 0; i < n; ++i) v = v << 1 | bits(1);
-        return v;
+    int decode(const Code& h) {  // codes are read most significant bit first
+        int code = 0, first = 0, index = 0;
+        for (int len = 1; len <= 15; ++len) {
+            code |= static_cast<int>(bits(1));
+            if (code - h.count[len] < first) return h.symbols[index + (code - first)];
+            index += h.count[len];
+            first = (first + h.count[len]) << 1;
+            code <<= 1;
+        }
+        throw std::runtime_error("bad code");
     }
-    int fixed_litlen() {
-        std::uint32_t c = code(7);
-        if (c <= 0x17) return 256 + static_cast<int>(c);
-        c = c << 1 | bits(1);
-        if (c >= 0x30 && c <= 0xBF) return static_cast<int>(c - 0x30);
-        if (c >= 0xC0 && c <= 0xC7) return 280 + static_cast<int>(c - 0xC0);
-        c = c << 1 | bits(1);
-        if (c >= 0x190 && c <= 0x1FF) return 144 + static_cast<int>(c - 0x190);
-        throw std::runtime_error("bad fixed code");
+    void inflate_dynamic(std::vector<std::uint8_t>& out) {
+        static const int kOrder[19] = {16, 17, 18, 0, 8, 7, 9, 6, 10, 5, 11, 4, 12, 3, 13, 2, 14, 1, 15};
+        const int hlit = static_cast<int>(bits(5)) + 257, hdist = static_cast<int>(bits(5)) + 1;
+        const int hclen = static_cast<int>(bits(4)) + 4;
+        std::vector<int> cl_lengths(19, 0);
+        for (int i = 0; i < hclen; ++i) cl_lengths[kOrder[i]] = static_cast<int>(bits(3));
+        const Code cl(cl_lengths);
+        std::vector<int> lengths;
+        while (static_cast<int>(lengths.size()) < hlit + hdist) {
+            const int sym = decode(cl);
+            if (sym < 16) {
+                lengths.push_back(sym);
+                continue;
+            }
+            if (sym == 16 && lengths.empty()) throw std::runtime_error("repeat with no length");
+            const int value = sym == 16 ? lengths.back() : 0;
+            const int repeat = sym == 16 ? 3 + static_cast<int>(bits(2))
+                               : sym == 17 ? 3 + static_cast<int>(bits(3))
+                                           : 11 + static_cast<int>(bits(7));
+            lengths.insert(lengths.end(), repeat, value);
+        }
+        if (static_cast<int>(lengths.size()) != hlit + hdist) throw std::runtime_error("overrun");
+        if (lengths[256] == 0) throw std::runtime_error("no end-of-block code");
+        inflate_codes(out, Code({lengths.begin(), lengths.begin() + hlit}),
+                      Code({lengths.begin() + hlit, lengths.end()}));
     }
-    void inflate_fixed(std::vector<std::uint8_t>& out) {
+    void inflate_codes(std::vector<std::uint8_t>& out, const Code& litlen, const Code& dist) {
         static const int kLenBase[29] = {3,  4,  5,  6,  7,  8,  9,  10, 11,  13,  15,  17,  19,  23, 27,
                                          31, 35, 43, 51, 59, 67, 83, 99, 115, 131, 163, 195, 227, 258};
         static const int kLenExtra[29] = {0, 0, 0, 0, 0, 0, 0, 0, 1, 1, 1, 1, 2, 2, 2,
                                           2, 3, 3, 3, 3, 4, 4, 4, 4, 5, 5, 5, 5, 0};
         for (;;) {
-            const int sym = fixed_litlen();
+            const int sym = decode(litlen);
             if (sym < 256) {
                 out.push_back(static_cast<std::uint8_t>(sym));
                 continue;
@@ -424,9 +474,9 @@ private:
             if (sym == 256) return;
             if (sym > 285) throw std::runtime_error("bad length symbol");
             const int length = kLenBase[sym - 257] + static_cast<int>(bits(kLenExtra[sym - 257]));
-            const int d = static_cast<int>(code(5));
+            const int d = decode(dist);
             if (d > 29) throw std::runtime_error("bad distance symbol");
-            // Distance bases: 1..4, then doubling pairs with d/2 - 1 extra bits.
+            // Distance bases: 1..4, then pairs doubling, with d/2 - 1 extra bits.
             const int extra = d < 4 ? 0 : d / 2 - 1;
             const int base = d < 4 ? d + 1 : (1 << (extra + 1)) + (d % 2) * (1 << extra) + 1;
             const std::size_t distance = base + bits(extra);
@@ -546,7 +596,6 @@ TEST(PngWriter, SmoothGradientCompressesWell) {
     ASSERT_EQ(png.height, n);
     const std::size_t raw = static_cast<std::size_t>(n) * n * 3;
     EXPECT_LT(png.file_size, raw / 10);
-    EXPECT_GT(png.stream.fixed_blocks, 0);
     // Decoded bytes match an independent 8-bit encoding of the same values.
     for (int y = 0; y < n; y += 17) {
         for (int x = 0; x < n; x += 13) {
@@ -560,28 +609,37 @@ TEST(PngWriter, SmoothGradientCompressesWell) {
     }
 }
 
-TEST(PngWriter, NoiseAndFlatRegionsUseStoredAndFixedBlocks) {
-    // Top half white noise (incompressible: stored blocks), bottom half flat (fixed Huffman);
-    // large enough for many blocks and for matches reaching back across block boundaries.
+double srgb_to_linear(double s) {
+    return s <= 0.04045 ? s / 12.92 : std::pow((s + 0.055) / 1.055, 2.4);
+}
+
+TEST(PngWriter, NoisyImageUsesStoredAndDynamicBlocks) {
+    // Top: uniformly random 8-bit codes (incompressible: stored blocks). Bottom: a flat image
+    // with render-like noise (dynamic Huffman). Large enough for many blocks and for matches
+    // reaching back across block boundaries.
     std::mt19937 rng(42);
-    std::uniform_real_distribution<float> uniform(0.0f, 1.0f);
-    const Image image = make_image(160, 200, [&](int x, int y, int c) {
-        return y < 100 ? uniform(rng) : (x / 40 + c) % 3 * 0.3f;
+    std::uniform_int_distribution<int> byte(0, 255);
+    std::normal_distribution<float> noise(0.0f, 0.02f);
+    std::vector<int> expected;
+    const Image image = make_image(160, 240, [&](int x, int y, int c) {
+        const int code = y < 100 ? byte(rng) : std::clamp(160 + (x / 40 + c) % 3 * 20 +
+                                                          static_cast<int>(255 * noise(rng)), 0, 255);
+        expected.push_back(code);
+        return static_cast<float>(srgb_to_linear(code / 255.0));
     });
     const DecodedPng png = decode_png(encode_image(image, ImageFormat::Png, {}));
     EXPECT_GT(png.stream.stored_blocks, 0);
-    EXPECT_GT(png.stream.fixed_blocks, 0);
-    ASSERT_EQ(png.rgb.size(), image.rgb.size());
-    for (std::size_t i = 0; i < png.rgb.size(); ++i) {
-        const double v = image.rgb[i];
-        const double s = v < 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1 / 2.4) - 0.055;
-        ASSERT_EQ(png.rgb[i], std::lround(s * 255)) << i;
-    }
+    EXPECT_GT(png.stream.dynamic_blocks, 0);
+    ASSERT_EQ(png.rgb.size(), expected.size());
+    for (std::size_t i = 0; i < png.rgb.size(); ++i) ASSERT_EQ(png.rgb[i], expected[i]) << i;
 }
 
 TEST(PngWriter, SinglePixel) {
-    const DecodedPng png = decode_png(encode_image(Image{1, 1, {1, 0, 0.5f}}, ImageFormat::Png, {}));
+    // Too small for a dynamic code table to pay off: a fixed-Huffman block.
+    const DecodedPng png =
+        decode_png(encode_image(Image{1, 1, {1, 0, 0.5f}}, ImageFormat::Png, {}));
     EXPECT_EQ(png.rgb, (std::vector<std::uint8_t>{255, 0, 188}));
+    EXPECT_EQ(png.stream.fixed_blocks, 1);
 }
 
 // ---- invalid images and atomic writes -------------------------------------------------------

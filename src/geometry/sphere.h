@@ -2,7 +2,6 @@
 // Gems ch. 7), so far-away and tiny spheres stay exact; hits are reprojected onto the surface.
 #pragma once
 #include <cmath>
-#include <optional>
 
 #include "geometry/ray.h"
 
@@ -13,34 +12,37 @@ struct Sphere {
     float radius = 1.f;
     int material = -1;
 
-    /// Nearest hit with t in (0, ray.t_max).
-    std::optional<Hit> intersect(const Ray& ray) const {
-        const double ox = ray.o.x - static_cast<double>(center.x);
-        const double oy = ray.o.y - static_cast<double>(center.y);
-        const double oz = ray.o.z - static_cast<double>(center.z);
+    /// Distance to the nearest hit with t > 0, or infinity when there is none.
+    double intersect_t(const Ray& ray) const {
+        const double ox = double(ray.o.x) - center.x, oy = double(ray.o.y) - center.y,
+                     oz = double(ray.o.z) - center.z;
         const double dx = ray.d.x, dy = ray.d.y, dz = ray.d.z;
         const double dd = dx * dx + dy * dy + dz * dz;
         const double t_c = -(ox * dx + oy * dy + oz * dz) / dd;  // closest approach
         const double vx = ox + t_c * dx, vy = oy + t_c * dy, vz = oz + t_c * dz;
         const double r = radius;
         const double disc = (r * r - (vx * vx + vy * vy + vz * vz)) / dd;
-        if (disc < 0.0) return std::nullopt;
+        if (disc < 0.0) return kInfinity;
         const double half = std::sqrt(disc);
-        double t = t_c - half;
-        if (t <= 0.0) t = t_c + half;
-        if (t <= 0.0 || t >= ray.t_max) return std::nullopt;
+        if (t_c - half > 0.0) return t_c - half;
+        return t_c + half > 0.0 ? t_c + half : kInfinity;
+    }
+
+    Hit make_hit(const Ray& ray, double t) const {
         // Reproject onto the surface: the point is then exact up to its final rounding.
-        double px = ox + t * dx, py = oy + t * dy, pz = oz + t * dz;
-        const double scale = r / std::sqrt(px * px + py * py + pz * pz);
+        double px = double(ray.o.x) - center.x + t * ray.d.x;
+        double py = double(ray.o.y) - center.y + t * ray.d.y;
+        double pz = double(ray.o.z) - center.z + t * ray.d.z;
+        const double scale = double(radius) / std::sqrt(px * px + py * py + pz * pz);
         px *= scale, py *= scale, pz *= scale;
         Hit hit;
         hit.t = static_cast<float>(t);
         hit.p = {static_cast<float>(px + center.x), static_cast<float>(py + center.y),
                  static_cast<float>(pz + center.z)};
         hit.p_err = rounded_point_error(hit.p);
-        hit.n = Vec3(static_cast<float>(px / r), static_cast<float>(py / r),
-                     static_cast<float>(pz / r));
-        hit.n = normalize(hit.n);
+        const double inv_r = 1.0 / radius;
+        hit.n = normalize(Vec3(static_cast<float>(px * inv_r), static_cast<float>(py * inv_r),
+                               static_cast<float>(pz * inv_r)));
         hit.material = material;
         return hit;
     }

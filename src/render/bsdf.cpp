@@ -16,6 +16,21 @@ float live_mean(const SampledSpectrum& s, const SampledWavelengths& lambda) {
     return s.average();
 }
 
+/// Lambertian lobe chosen with probability p_lobe.
+std::optional<BsdfSample> sample_diffuse(const Material& mat, const Vec3& wo, const Vec3& n,
+                                         const SampledWavelengths& lambda, float u1, float u2,
+                                         float p_lobe) {
+    const float cos_o = dot(wo, n);
+    if (cos_o == 0.f) return std::nullopt;  // exactly tangent: no hemisphere to sample
+    const Vec3 local = sample_cosine_hemisphere(u1, u2);
+    if (!(local.z > 0.f)) return std::nullopt;  // pdf 0 at the horizon
+    BsdfSample bs;
+    bs.wi = Frame(cos_o > 0.f ? n : -n).to_world(local);
+    // f·cos/pdf = (kd/π)·cos/(cos/π) = kd, divided by the lobe probability.
+    bs.weight = mat.kd.sample(lambda) / p_lobe;
+    return bs;
+}
+
 /// Smooth dielectric: reflect with the hero wavelength's Fresnel probability, else refract.
 std::optional<BsdfSample> sample_dielectric(const Material& mat, const Vec3& wo, const Vec3& n,
                                             SampledWavelengths& lambda, SampledSpectrum lobe_weight,
@@ -61,6 +76,7 @@ std::optional<BsdfSample> sample_dielectric(const Material& mat, const Vec3& wo,
 
 std::optional<BsdfSample> sample_bsdf(const Material& mat, const Vec3& wo, const Vec3& n,
                                       SampledWavelengths& lambda, float u_lobe, float u1, float u2) {
+    if (!mat.has_mirror() && !mat.has_transmission()) return sample_diffuse(mat, wo, n, lambda, u1, u2, 1.f);
     const SampledSpectrum kd = mat.kd.sample(lambda);
     const SampledSpectrum ks = mat.ks.sample(lambda);
     const SampledSpectrum kt = mat.kt.sample(lambda);
@@ -69,18 +85,7 @@ std::optional<BsdfSample> sample_bsdf(const Material& mat, const Vec3& wo, const
     if (!(total > 0.f)) return std::nullopt;
 
     float u = u_lobe * total;
-    if (u < w_d) {
-        const float cos_o = dot(wo, n);
-        if (cos_o == 0.f) return std::nullopt;  // exactly tangent: no hemisphere to sample
-        const Vec3 n_wo = cos_o > 0.f ? n : -n;
-        const Vec3 local = sample_cosine_hemisphere(u1, u2);
-        if (!(local.z > 0.f)) return std::nullopt;  // pdf 0 at the horizon
-        BsdfSample bs;
-        bs.wi = Frame(n_wo).to_world(local);
-        // f·cos/pdf = (kd/π)·cos/(cos/π) = kd, divided by the lobe probability w_d/total.
-        bs.weight = kd * (total / w_d);
-        return bs;
-    }
+    if (u < w_d) return sample_diffuse(mat, wo, n, lambda, u1, u2, w_d / total);
     u -= w_d;
     if (u < w_s) {
         BsdfSample bs;

@@ -37,23 +37,27 @@ struct Scene {
     /// Checks every value (throws SceneError naming the culprit) and analyses the effects.
     void finalize();
 
-    /// Nearest surface along the ray, t in (0, ray.t_max).
+    /// Nearest surface along the ray, t in (0, ray.t_max). Candidates are compared by distance
+    /// only; the hit record (the costly part) is built once, for the winner.
     std::optional<Hit> intersect(const Ray& ray) const {
-        std::optional<Hit> best;
-        Ray r = ray;
+        double t_best = ray.t_max;
+        const Plane* best_plane = nullptr;
+        const Sphere* best_sphere = nullptr;
         for (const Plane& plane : planes)
-            if (auto h = plane.intersect(r)) best = h, r.t_max = h->t;
+            if (const double t = plane.intersect_t(ray); t < t_best) t_best = t, best_plane = &plane;
         for (const Sphere& sphere : spheres)
-            if (auto h = sphere.intersect(r)) best = h, r.t_max = h->t;
-        return best;
+            if (const double t = sphere.intersect_t(ray); t < t_best) t_best = t, best_sphere = &sphere;
+        if (best_sphere) return best_sphere->make_hit(ray, t_best);
+        if (best_plane) return best_plane->make_hit(ray, t_best);
+        return std::nullopt;
     }
 
     /// True if anything blocks the ray before ray.t_max (shadow rays; glass is opaque to them).
     bool occluded(const Ray& ray) const {
         for (const Sphere& sphere : spheres)
-            if (sphere.intersect(ray)) return true;
+            if (sphere.intersect_t(ray) < ray.t_max) return true;
         for (const Plane& plane : planes)
-            if (plane.intersect(ray)) return true;
+            if (plane.intersect_t(ray) < ray.t_max) return true;
         return false;
     }
 };

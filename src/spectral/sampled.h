@@ -70,10 +70,19 @@ inline float visible_wavelength_pdf(float lambda_nm) {
     return 0.0039398042f / (c * c);
 }
 
-/// Inverse CDF of visible_wavelength_pdf for u in [0, 1).
+/// Inverse CDF of visible_wavelength_pdf for u in [0, 1), returning λ and its pdf together:
+/// with y = tanh(0.0072·(538 − λ)), cosh⁻² = 1 − y², so the pdf costs no transcendental, and
+/// atanh(y) = ½·log((1 + y)/(1 − y)) needs a single logarithm.
+inline void sample_visible_wavelength(float u, float& lambda_nm, float& pdf) {
+    const float y = 0.85691062f - 1.82750197f * u;
+    const float lambda = 538.f - 69.4444444f * std::log((1.f + y) / (1.f - y));
+    lambda_nm = std::clamp(lambda, kLambdaMin, kLambdaMax);
+    pdf = 0.0039398042f * (1.f - y * y);
+}
 inline float sample_visible_wavelength(float u) {
-    const float lambda = 538.f - 138.888889f * std::atanh(0.85691062f - 1.82750197f * u);
-    return std::clamp(lambda, kLambdaMin, kLambdaMax);
+    float lambda, pdf;
+    sample_visible_wavelength(u, lambda, pdf);
+    return lambda;
 }
 
 /// The hero wavelength and its companions, each with the pdf it was sampled with.
@@ -88,8 +97,7 @@ struct SampledWavelengths {
         for (int i = 0; i < kLambdaCount; ++i) {
             float ui = u + static_cast<float>(i) / kLambdaCount;
             if (ui >= 1.f) ui -= 1.f;
-            w.lambda[i] = sample_visible_wavelength(ui);
-            w.pdf[i] = visible_wavelength_pdf(w.lambda[i]);
+            sample_visible_wavelength(ui, w.lambda[i], w.pdf[i]);
         }
         return w;
     }

@@ -1,0 +1,173 @@
+// Small helpers for render-level tests: analytic test scenes (closed-sphere furnaces, a lit
+// plane, glass spheres in an environment) and statistics over a film (per-pixel z-scores,
+// image means with their standard error).
+#pragma once
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <numbers>
+#include <string>
+#include <utility>
+
+#include "render/film.h"
+#include "render/renderer.h"
+#include "scene/scene.h"
+
+namespace spt::test {
+
+inline Spectrum constant_spectrum(double value, SpectralResolution res = {}) {
+    return Spectrum(SpectrumSource::constant(value), res);
+}
+
+/// Lambertian material with reflectance `albedo`, emitting `emission` from both sides.
+inline Material diffuse_material(double albedo, double emission = 0.0) {
+    Material m;
+    m.name = "diffuse";
+    m.kd = constant_spectrum(albedo);
+    m.emission = constant_spectrum(emission);
+    return m;
+}
+
+inline Material mirror_material(double ks = 1.0) {
+    Material m;
+    m.name = "mirror";
+    m.ks = constant_spectrum(ks);
+    return m;
+}
+
+/// Clear glass (kt = 1) with a constant index of refraction.
+inline Material glass_material(double eta) {
+    Material m;
+    m.name = "glass";
+    m.kt = constant_spectrum(1.0);
+    m.eta = constant_spectrum(eta);
+    return m;
+}
+
+/// Schott BK7 (Sellmeier coefficients of ROBUSTNESS.md §4): a dispersive glass.
+inline Material bk7_material(SpectralResolution res = {}) {
+    Material m;
+    m.name = "bk7";
+    m.kt = constant_spectrum(1.0);
+    m.eta = Spectrum(SpectrumSource::sellmeier(1.03961212, 0.231792344, 1.01046945, 0.00600069867,
+                                               0.0200179144, 103.560653),
+                     res);
+    return m;
+}
+
+/// Camera inside a closed unit sphere at the origin whose inner surface is `material`; the
+/// camera sits off-centre so that rays do not all meet the wall at normal incidence.
+inline Scene closed_sphere_scene(Material material) {
+    Scene scene;
+    scene.name = "closed sphere";
+    scene.camera = {{0.3f, -0.2f, 0.1f}, {-0.2f, 0.1f, -1.f}, {0, 1, 0}, 70.f};
+    const int m = scene.add_material(std::move(material));
+    scene.spheres.push_back({{0, 0, 0}, 1.f, m});
+    return scene;
+}
+
+/// Diffuse plane y = height (normal +y) with albedo `albedo`, and a point light of constant
+/// intensity at (0, height + h, 0). The camera looks straight down at (x, height, z) from
+/// `camera_height` above the plane with a tiny field of view, so each pixel's footprint is
+/// a point for all practical purposes (footprint ~ 2·camera_height·tan(vfov/2)).
+inline Scene lit_plane_scene(double albedo, double intensity, float h, float x, float z,
+                             float height = 0.f, float camera_height = 1.f,
+                             float vfov_degrees = 1e-4f) {
+    Scene scene;
+    scene.name = "lit plane";
+    const int m = scene.add_material(diffuse_material(albedo));
+    scene.planes.push_back({{0, 1, 0}, height, m});
+    scene.point_lights.push_back({{0, height + h, 0}, constant_spectrum(intensity)});
+    scene.camera = {{x, height + camera_height, z}, {x, height, z}, {0, 0, -1}, vfov_degrees};
+    return scene;
+}
+
+/// Irradiance-based radiance of a Lambertian plane lit by a point light at height h, at
+/// horizontal distance rho from the light's foot: (a/π)·I·cosθ/r² = (a/π)·I·h/(h²+ρ²)^{3/2}.
+inline double lit_plane_radiance(double albedo, double intensity, double h, double rho) {
+    return albedo / std::numbers::pi * intensity * h / std::pow(h * h + rho * rho, 1.5);
+}
+
+inline RenderSettings small_settings(int width, int height, int spp, std::uint64_t seed = 1,
+                                     int threads = 2) {
+    RenderSettings s;
+    s.width = width;
+    s.height = height;
+    s.spp = spp;
+    s.seed = seed;
+    s.threads = threads;
+    return s;
+}
+
+/// Renders into a new film (Film holds atomics, so it lives behind a pointer).
+inline std::unique_ptr<Film> render_film(const Scene& scene, const RenderSettings& settings,
+                                         RenderStats* stats = nullptr) {
+    auto film = std::make_unique<Film>(settings.width, settings.height);
+    const RenderStats st = render(scene, settings, *film);
+    if (stats) *stats = st;
+    return film;
+}
+
+/// Mean Y over all pixels and its standard error (pixels are independent: errors add in
+/// quadrature).
+struct ImageMean {
+    double mean = 0, standard_error = 0;
+};
+inline ImageMean image_mean_y(const Film& film) {
+    double sum = 0, var = 0;
+    const int n = film.width() * film.height();
+    for (int y = 0; y < film.height(); ++y)
+        for (int x = 0; x < film.width(); ++x) {
+            sum += film.pixel_xyz(x, y).y;
+            var += std::pow(film.pixel_y_standard_error(x, y), 2);
+        }
+    return {sum / n, std::sqrt(var) / n};
+}
+
+/// Largest |Y − expected|/σ over the pixels (σ the pixel's measured standard error). A pixel
+/// with σ = 0 must match exactly (relative 1e-6), else it counts as infinitely far.
+struct ZReport {
+    double max_z = 0;
+    int worst_x = -1, worst_y = -1;
+    double worst_value = 0, worst_sigma = 0;
+};
+inline ZReport max_pixel_z(const Film& film, double expected) {
+    ZReport r;
+    for (int y = 0; y < film.height(); ++y)
+        for (int x = 0; x < film.width(); ++x) {
+            const double v = film.pixel_xyz(x, y).y;
+            const double se = film.pixel_y_standard_error(x, y);
+            double z;
+            if (se > 0) z = std::fabs(v - expected) / se;
+            else z = std::fabs(v - expected) <= 1e-6 * std::fabs(expected) ? 0.0 : std::numeric_limits<double>::infinity();
+            if (!(z <= r.max_z)) r = {z, x, y, v, se};
+        }
+    return r;
+}
+
+inline std::string describe(const ZReport& r) {
+    return "worst pixel (" + std::to_string(r.worst_x) + ", " + std::to_string(r.worst_y) +
+           "): Y = " + std::to_string(r.worst_value) + " ± " + std::to_string(r.worst_sigma) +
+           ", z = " + std::to_string(r.max_z);
+}
+
+/// Every pixel finite and ≥ 0 in X, Y and Z; returns the number of offending pixels.
+inline int count_bad_pixels(const Film& film) {
+    int bad = 0;
+    for (int y = 0; y < film.height(); ++y)
+        for (int x = 0; x < film.width(); ++x) {
+            const Xyz c = film.pixel_xyz(x, y);
+            for (double v : {c.x, c.y, c.z})
+                if (!std::isfinite(v) || v < 0) {
+                    ++bad;
+                    break;
+                }
+        }
+    return bad;
+}
+
+}  // namespace spt::test
