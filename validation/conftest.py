@@ -6,9 +6,8 @@ Fixtures:
 * ``spectra_dir`` -- ``<repo>/spectra``.
 * ``pathtracer_path`` -- path of the built renderer, from ``$SPT_PATHTRACER``
   or ``<repo>/build/pathtracer``; not checked for existence.
-* ``pathtracer``  -- the same path, but the test is skipped when the program
-  is not built, or fails when ``SPT_REQUIRE_PATHTRACER=1`` (use that in CI so
-  a missing build cannot pass silently).
+* ``pathtracer``  -- the same path; the test fails when the program is not
+  built (a missing build must not pass silently).
 
 The plain functions ``repo_root_path()`` and ``pathtracer_location()`` do the
 same for code outside fixtures (helper modules, scripts).
@@ -72,6 +71,5 @@ def pathtracer(pathtracer_path: Path) -> Path:
         f"renderer not found or not executable at {pathtracer_path} "
         "(build it, or set SPT_PATHTRACER)"
     )
-    if os.environ.get("SPT_REQUIRE_PATHTRACER") == "1":
-        pytest.fail(message)
-    pytest.skip(message)
+    # A missing build must never pass silently: fail, do not skip.
+    pytest.fail(message)

@@ -17,9 +17,12 @@ Spectrum::Spectrum(SpectrumSource source, SpectralResolution resolution)
         const int n = resolution.bins;
         const double width = (kBinMax - kBinMin) / n;
         m_inv_bin_width = static_cast<float>(1.0 / width);
-        m_bins.resize(n);
+        // One bin is a constant; store it twice so the interpolating look-up needs no branch.
+        m_bins.resize(std::max(n, 2));
+        m_last_bin = static_cast<float>(m_bins.size() - 1);
         for (int i = 0; i < n; ++i)
             m_bins[i] = static_cast<float>(m_source.eval(kBinMin + (i + 0.5) * width));
+        if (n == 1) m_bins[1] = m_bins[0], m_inv_bin_width = 0.f;
         m_max = *std::max_element(m_bins.begin(), m_bins.end());
         m_min = *std::min_element(m_bins.begin(), m_bins.end());
         return;

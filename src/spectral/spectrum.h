@@ -27,13 +27,10 @@ public:
     float eval(float lambda_nm) const {
         if (m_constant) return m_constant_value;
         if (m_bins.empty()) return static_cast<float>(m_source.eval(lambda_nm));
-        const float x = (lambda_nm - kBinMin) * m_inv_bin_width - 0.5f;
-        if (x <= 0.f) return m_bins.front();
-        const int last = static_cast<int>(m_bins.size()) - 1;
-        if (x >= static_cast<float>(last)) return m_bins.back();
-        const int i = static_cast<int>(x);
-        const float t = x - static_cast<float>(i);
-        return lerp(t, m_bins[i], m_bins[i + 1]);
+        // Clamping the bin coordinate holds the end values and keeps the look-up branch-free.
+        const float x = std::clamp((lambda_nm - kBinMin) * m_inv_bin_width - 0.5f, 0.f, m_last_bin);
+        const int i = std::min(static_cast<int>(x), static_cast<int>(m_last_bin) - 1);
+        return lerp(x - static_cast<float>(i), m_bins[i], m_bins[i + 1]);
     }
 
     SampledSpectrum sample(const SampledWavelengths& w) const {
@@ -54,6 +51,7 @@ private:
     SpectrumSource m_source;
     std::vector<float> m_bins;  ///< empty in exact mode
     float m_inv_bin_width = 0.f;
+    float m_last_bin = 0.f;     ///< index of the last bin, as a float
     bool m_constant = false;
     float m_constant_value = 0.f;
     float m_max = 0.f, m_min = 0.f;
