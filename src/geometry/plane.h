@@ -12,20 +12,8 @@ struct Plane {
     float offset = 0.f;  ///< dot(normal, p) for points p on the plane
     int material = -1;
 
-    Plane() = default;
-    Plane(const Vec3& n, float offset_, int material_) : normal(n), offset(offset_), material(material_) {
-        for (int a = 0; a < 3; ++a)
-            if (std::fabs(n[a]) == 1.f) axis = a, axis_position = n[a] * offset;
-    }
-
     /// Distance along the ray to the plane, or infinity when there is no hit with t > 0.
     double intersect_t(const Ray& ray) const {
-        if (axis >= 0) {
-            // Axis-aligned: one subtraction and one division in float. The subtraction is exact
-            // near the plane (Sterbenz), so a ray spawned off the plane never re-hits it.
-            const float t = (axis_position - (&ray.o.x)[axis]) / (&ray.d.x)[axis];
-            return t > 0.f ? t : kInfinity;
-        }
         const double denom = double(normal.x) * ray.d.x + double(normal.y) * ray.d.y +
                              double(normal.z) * ray.d.z;
         const double no = double(normal.x) * ray.o.x + double(normal.y) * ray.o.y +
@@ -47,10 +35,6 @@ struct Plane {
         hit.material = material;
         return hit;
     }
-
-private:
-    int axis = -1;              ///< 0, 1, 2 when the normal is ±x, ±y, ±z
-    float axis_position = 0.f;  ///< the plane's coordinate on that axis
 };
 
 }  // namespace spt

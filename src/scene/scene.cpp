@@ -82,6 +82,18 @@ void Scene::finalize() {
     require(camera.vfov_degrees > 0.f && camera.vfov_degrees < 180.f,
             "camera field of view must be in (0, 180) degrees");
 
+    // Split planes for intersection: axis-aligned ones take the fast path.
+    m_axis_planes.clear();
+    m_general_planes.clear();
+    for (int i = 0; i < static_cast<int>(planes.size()); ++i) {
+        const Plane& p = planes[i];
+        int axis = -1;
+        for (int a = 0; a < 3; ++a)
+            if (std::fabs(p.normal[a]) == 1.f) axis = a;
+        if (axis >= 0) m_axis_planes.push_back({p.normal[axis] * p.offset, axis, i});
+        else m_general_planes.push_back(i);
+    }
+
     // Which effects are called for: only materials that some shape uses count.
     effects = Effects{};
     effects.point_lights = !point_lights.empty();
