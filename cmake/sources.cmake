@@ -10,6 +10,7 @@ set(SPT_CORE_SOURCES
     src/io/png_writer.cpp
     src/io/ppm_writer.cpp
     src/render/bsdf.cpp
+    src/render/checkpoint.cpp
     src/render/film.cpp
     src/render/integrator.cpp
     src/render/renderer.cpp

@@ -1,4 +1,7 @@
 // The pathtracer program: parse flags, build the scene, render, write the images.
+#include <atomic>
+#include <chrono>
+#include <csignal>
 #include <cstdio>
 #include <exception>
 #include <string>
@@ -8,6 +11,7 @@
 #include "cli/options.h"
 #include "cli/progress_bar.h"
 #include "io/image_writer.h"
+#include "render/checkpoint.h"
 #include "render/renderer.h"
 #include "scene/builtin_scenes.h"
 
@@ -15,6 +19,14 @@ namespace {
 
 constexpr int kExitRuntimeError = 1;
 constexpr int kExitUsage = 2;
+
+// Set from the signal handler: lock-free atomics are async-signal-safe.
+std::atomic<bool> g_cancel{false};
+std::atomic<int> g_signal{0};
+extern "C" void on_signal(int sig) {
+    g_signal.store(sig);
+    g_cancel.store(true);
+}
 
 void print_summary(const spt::Scene& scene, const spt::RenderSettings& rs, const spt::RenderStats& st,
                    const spt::Film& film, const std::string& bins) {
@@ -29,6 +41,19 @@ void print_summary(const spt::Scene& scene, const spt::RenderSettings& rs, const
                  scene.effects.describe().c_str(),
                  static_cast<unsigned long long>(film.rejected_nonfinite()),
                  static_cast<unsigned long long>(film.rejected_negative()));
+}
+
+void write_outputs(const spt::Options& opt, const std::vector<std::string>& outputs, const spt::Film& film) {
+    const spt::ColorSpace space = *spt::color_space_by_name(opt.color_space);
+    const spt::Image image = film.develop(space);
+    spt::ImageWriteOptions wo;
+    wo.exposure_stops = opt.exposure;
+    wo.color_resolution = opt.color_resolution;
+    wo.chromaticities = {{float(space.red[0]), float(space.red[1])},
+                         {float(space.green[0]), float(space.green[1])},
+                         {float(space.blue[0]), float(space.blue[1])},
+                         {float(space.white[0]), float(space.white[1])}};
+    for (const std::string& path : outputs) spt::write_image(path, image, wo);
 }
 
 int run(const spt::Options& opt) {
@@ -46,26 +71,56 @@ int run(const spt::Options& opt) {
     rs.threads = opt.threads > 0 ? opt.threads
                                  : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
     rs.integrator.max_depth = opt.max_depth;
+    rs.pass_spp = opt.pass_spp;
 
     std::vector<std::string> outputs = opt.outputs;
     if (outputs.empty()) outputs.push_back(scene->name + ".png");
 
+    // ---- Checkpoints: what must match to resume, and the state of the last whole pass ----
+    spt::CheckpointInfo info{opt.scene, rs.width, rs.height, rs.spp, opt.spectral.bins,
+                             opt.max_depth, rs.seed, 0};
     spt::Film film(rs.width, rs.height);
+    if (!opt.resume.empty()) {
+        const spt::CheckpointInfo saved = spt::read_checkpoint_info(opt.resume);
+        if (!saved.same_render(info))
+            throw std::runtime_error("cannot resume from '" + opt.resume + "': it holds a render of " +
+                                     saved.describe() + ", but this run is " + info.describe());
+        rs.first_sample = spt::load_checkpoint(opt.resume, film).samples_completed;
+        info.samples_completed = rs.first_sample;
+        if (!opt.quiet)
+            std::fprintf(stderr, "resuming from %s after %d of %d spp\n", opt.resume.c_str(),
+                         rs.first_sample, rs.spp);
+    }
+    // Film state at the last pass boundary: an interrupted render checkpoints whole passes only.
+    std::string last_whole_pass = opt.checkpoint.empty() ? std::string() : film.save_state();
+    int last_whole_samples = info.samples_completed;
+    auto last_save = std::chrono::steady_clock::now();
+
     spt::ProgressBar bar(!opt.quiet);
-    const spt::RenderStats stats =
-        spt::render(*scene, rs, film, [&](std::uint64_t d, std::uint64_t t) { bar.update(d, t); });
+    spt::RenderHooks hooks;
+    hooks.progress = [&](std::uint64_t d, std::uint64_t t) { bar.update(d, t); };
+    hooks.cancel = &g_cancel;
+    if (!opt.checkpoint.empty()) {
+        hooks.pass_completed = [&](int samples) {
+            last_whole_pass = film.save_state();
+            last_whole_samples = info.samples_completed = samples;
+            const auto now = std::chrono::steady_clock::now();
+            if (std::chrono::duration<double>(now - last_save).count() >= opt.checkpoint_interval) {
+                spt::save_checkpoint(opt.checkpoint, info, last_whole_pass);
+                last_save = now;
+            }
+        };
+    }
+    std::signal(SIGINT, on_signal);
+    std::signal(SIGTERM, on_signal);
+    const spt::RenderStats stats = spt::render(*scene, rs, film, hooks);
     bar.finish();
 
-    const spt::ColorSpace space = *spt::color_space_by_name(opt.color_space);
-    const spt::Image image = film.develop(space);
-    spt::ImageWriteOptions wo;
-    wo.exposure_stops = opt.exposure;
-    wo.color_resolution = opt.color_resolution;
-    wo.chromaticities = {{float(space.red[0]), float(space.red[1])},
-                         {float(space.green[0]), float(space.green[1])},
-                         {float(space.blue[0]), float(space.blue[1])},
-                         {float(space.white[0]), float(space.white[1])}};
-    for (const std::string& path : outputs) spt::write_image(path, image, wo);
+    write_outputs(opt, outputs, film);
+    if (!opt.checkpoint.empty()) {
+        info.samples_completed = stats.cancelled ? last_whole_samples : stats.samples_completed;
+        spt::save_checkpoint(opt.checkpoint, info, stats.cancelled ? last_whole_pass : film.save_state());
+    }
 
     if (!opt.quiet) {
         const std::string bins = opt.spectral.bins == spt::SpectralResolution::kExact
@@ -73,6 +128,15 @@ int run(const spt::Options& opt) {
                                      : std::to_string(opt.spectral.bins);
         print_summary(*scene, rs, stats, film, bins);
         for (const std::string& path : outputs) std::fprintf(stderr, "  wrote %s\n", path.c_str());
+    }
+    if (stats.cancelled) {
+        std::fprintf(stderr,
+                     "pathtracer: interrupted by signal %d: wrote the image of %d of %d passes "
+                     "(%d of %d spp, plus the tiles finished since)%s\n",
+                     g_signal.load(), stats.passes_completed, stats.passes_total,
+                     stats.samples_completed, rs.spp,
+                     opt.checkpoint.empty() ? "" : "; the checkpoint holds the whole passes");
+        return 128 + g_signal.load();
     }
     return 0;
 }

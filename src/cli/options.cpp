@@ -52,7 +52,16 @@ Options:
                          analytic spectra at each wavelength (default 16)
   --threads T            worker threads (1 to 1024; default: all cores)
   --seed S               random seed (0 to 2^64-1; default 0); same seed, same image
+                         On SIGINT/SIGTERM the image of the passes done so far is written
+                         and the program exits with status 130/143.
   --max-depth D          maximum scattering events per path (0 to 100000; default unbounded)
+  --checkpoint FILE      save the render state to FILE (atomically) after a whole pass once
+                         --checkpoint-interval seconds have passed, and at exit
+  --checkpoint-interval SECONDS   0 to 1e6 (default 300)
+  --pass-spp N           samples per pixel per pass (default: about 4 million paths per
+                         pass); sets checkpoint and interruption granularity, not the image
+  --resume FILE          continue the render saved in FILE (same scene and settings);
+                         the result is identical to a render run straight through
   --quiet                no progress bar and no summary
   --list-scenes          list the built-in scenes
   -h, --help             this text
@@ -119,6 +128,15 @@ Options parse_options(const std::vector<std::string>& args) {
             o.seed = parse_integer<std::uint64_t>(flag, next_value(), 0,
                                                   std::numeric_limits<std::uint64_t>::max(),
                                                   "an integer from 0 to 2^64-1");
+        } else if (flag == "--checkpoint" || flag == "--resume") {
+            const std::string path = next_value();
+            if (path.empty()) throw UsageError(flag + ": expected a file name");
+            (flag == "--checkpoint" ? o.checkpoint : o.resume) = path;
+        } else if (flag == "--checkpoint-interval") {
+            o.checkpoint_interval =
+                parse_real(flag, next_value(), 0, 1e6, "a number of seconds from 0 to 1000000");
+        } else if (flag == "--pass-spp") {
+            o.pass_spp = parse_integer<int>(flag, next_value(), 1, 1000000, "an integer from 1 to 1000000");
         } else if (flag == "--max-depth") {
             o.max_depth = parse_integer<int>(flag, next_value(), 0, 100000, "an integer from 0 to 100000");
         } else if (!arg.empty() && arg[0] == '-') {

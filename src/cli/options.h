@@ -25,7 +25,11 @@ struct Options {
     int threads = 0;
     std::uint64_t seed = 0;
     int max_depth = -1;
+    int pass_spp = 0;  ///< samples per pass (0: automatic); does not change the image
     double exposure = 0.0;
+    std::string checkpoint;            ///< save the film state here (empty: never)
+    double checkpoint_interval = 300;  ///< seconds between checkpoints (after a whole pass)
+    std::string resume;                ///< continue the render saved in this checkpoint
     bool quiet = false;
     bool show_help = false;
     bool show_version = false;

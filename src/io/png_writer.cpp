@@ -216,7 +216,9 @@ public:
         out.put(static_cast<std::uint32_t>(hlit_ - 257), 5);
         out.put(static_cast<std::uint32_t>(hdist_ - 1), 5);
         out.put(static_cast<std::uint32_t>(hclen_ - 4), 4);
-        for (int i = 0; i < hclen_; ++i) out.put(static_cast<std::uint32_t>(code_.lengths[kOrder[i]]), 3);
+        for (int i = 0; i < hclen_; ++i) {
+            out.put(static_cast<std::uint32_t>(code_.lengths[kOrder[i]]), 3);
+        }
         for (const Run& r : runs_) {
             put_symbol(out, code_, r.symbol);
             out.put(static_cast<std::uint32_t>(r.extra), r.extra_bits);

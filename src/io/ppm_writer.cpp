@@ -27,10 +27,8 @@ std::string encode_ppm(const Image& image, const ImageWriteOptions& options) {
         const float v = image.rgb[i];
         // A valid v is <= max, so q <= levels: the conversion cannot overflow.
         const bool valid = std::isfinite(v) && v > 0.0f;
-        const std::uint64_t q =
-            valid ? static_cast<std::uint64_t>(
-                        std::round(static_cast<double>(v) / max_value * static_cast<double>(levels)))
-                  : 0;
+        const double level = valid ? std::round(static_cast<double>(v) / max_value * levels) : 0.0;
+        const auto q = static_cast<std::uint64_t>(level);
         out += std::to_string(q);
         out += i % 3 == 2 ? '\n' : ' ';  // one pixel per line keeps lines short
     }

@@ -1,6 +1,8 @@
 #include "render/film.h"
 
 #include <cmath>
+#include <cstring>
+#include <stdexcept>
 
 namespace spt {
 
@@ -25,6 +27,46 @@ double Film::pixel_y_standard_error(int x, int y) const {
     const double mean = m_xyz[3 * i + 1] / n;
     const double variance = std::max(0.0, (m_y_squared[i] / n - mean * mean) * n / (n - 1));
     return std::sqrt(variance / n);
+}
+
+namespace {
+
+template <typename T>
+void append_array(std::string& out, const std::vector<T>& v) {
+    out.append(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
+}
+
+template <typename T>
+void read_array(std::string_view& in, std::vector<T>& v) {
+    const std::size_t n = v.size() * sizeof(T);
+    if (in.size() < n) throw std::runtime_error("film state is truncated");
+    std::memcpy(v.data(), in.data(), n);
+    in.remove_prefix(n);
+}
+
+}  // namespace
+
+std::string Film::save_state() const {
+    std::string out;
+    const std::uint64_t counters[2] = {rejected_nonfinite(), rejected_negative()};
+    out.append(reinterpret_cast<const char*>(counters), sizeof counters);
+    append_array(out, m_xyz);
+    append_array(out, m_y_squared);
+    append_array(out, m_count);
+    return out;
+}
+
+void Film::restore_state(std::string_view in) {
+    std::uint64_t counters[2];
+    if (in.size() < sizeof counters) throw std::runtime_error("film state is truncated");
+    std::memcpy(counters, in.data(), sizeof counters);
+    in.remove_prefix(sizeof counters);
+    read_array(in, m_xyz);
+    read_array(in, m_y_squared);
+    read_array(in, m_count);
+    if (!in.empty()) throw std::runtime_error("film state has trailing bytes");
+    m_rejected_nonfinite = counters[0];
+    m_rejected_negative = counters[1];
 }
 
 Image Film::develop(const ColorSpace& space) const {

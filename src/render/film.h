@@ -4,6 +4,8 @@
 #pragma once
 #include <atomic>
 #include <cstdint>
+#include <string>
+#include <string_view>
 #include <vector>
 
 #include "io/image.h"
@@ -50,8 +52,13 @@ public:
     /// Mean XYZ of every pixel converted to linear RGB of the given colour space.
     Image develop(const ColorSpace& space) const;
 
-    /// Raw state, for bit-exact comparisons and checkpoints.
+    /// Raw state, for bit-exact comparisons.
     const std::vector<double>& xyz_sums() const { return m_xyz; }
+
+    /// The whole accumulation state as bytes (checkpoints) and back. restore_state throws
+    /// std::runtime_error when the bytes do not describe a film of this size.
+    std::string save_state() const;
+    void restore_state(std::string_view bytes);
 
 private:
     std::size_t index(int x, int y) const {

@@ -51,7 +51,9 @@ private:
     std::uint64_t m_paths = 0;
 };
 
-int choose_pass_spp(const RenderSettings& s) {
+}  // namespace
+
+int effective_pass_spp(const RenderSettings& s) {
     if (s.pass_spp > 0) return std::min(s.pass_spp, s.spp);
     // About four million paths per pass: frequent enough for progress and interruption,
     // long enough that waiting for the last tile of a pass costs little.
@@ -59,8 +61,6 @@ int choose_pass_spp(const RenderSettings& s) {
     const int pass = static_cast<int>(std::max(1.0, 4.0e6 / pixels));
     return std::min(pass, s.spp);
 }
-
-}  // namespace
 
 void render_pixel(const Scene& scene, const RenderSettings& settings, const Camera& camera, int x,
                   int y, int first_sample, int end_sample, Film& film, PathStats& stats) {
@@ -77,16 +77,21 @@ void render_pixel(const Scene& scene, const RenderSettings& settings, const Came
 }
 
 RenderStats render(const Scene& scene, const RenderSettings& settings, Film& film,
-                   const ProgressCallback& progress, const std::atomic<bool>* cancel) {
+                   const RenderHooks& hooks) {
+    const ProgressCallback& progress = hooks.progress;
+    const std::atomic<bool>* cancel = hooks.cancel;
     const auto start = std::chrono::steady_clock::now();
     const Camera camera(scene.camera, settings.width, settings.height);
     const int threads = settings.threads > 0
                             ? settings.threads
                             : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-    const int pass_spp = choose_pass_spp(settings);
+    const int pass_spp = effective_pass_spp(settings);
     RenderStats stats;
-    stats.passes_total = (settings.spp + pass_spp - 1) / pass_spp;
-    const std::uint64_t total_paths = std::uint64_t(settings.width) * settings.height * settings.spp;
+    const int first_sample = std::clamp(settings.first_sample, 0, settings.spp);
+    stats.passes_total = (settings.spp - first_sample + pass_spp - 1) / pass_spp;
+    stats.samples_completed = first_sample;
+    const std::uint64_t total_paths =
+        std::uint64_t(settings.width) * settings.height * (settings.spp - first_sample);
 
     WorkQueue<TileTask> queue;
     PassLatch latch;
@@ -115,7 +120,7 @@ RenderStats render(const Scene& scene, const RenderSettings& settings, Film& fil
 
     // Producer: one pass at a time, so a pixel never gets samples out of order.
     const int ts = settings.tile_size;
-    for (int first = 0; first < settings.spp && !cancelled(); first += pass_spp) {
+    for (int first = first_sample; first < settings.spp && !cancelled(); first += pass_spp) {
         const int end = std::min(settings.spp, first + pass_spp);
         latch.reset();
         int tiles = 0;
@@ -125,7 +130,10 @@ RenderStats render(const Scene& scene, const RenderSettings& settings, Film& fil
                             std::min(y0 + ts, settings.height), first, end});
         while (!latch.wait_for(tiles, std::chrono::milliseconds(200)))
             if (progress) progress(latch.paths(), total_paths);
-        if (!cancelled()) ++stats.passes_completed;
+        if (cancelled()) break;
+        ++stats.passes_completed;
+        stats.samples_completed = end;
+        if (hooks.pass_completed) hooks.pass_completed(end);
     }
     queue.close();
     for (std::thread& w : workers) w.join();

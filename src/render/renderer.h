@@ -18,26 +18,40 @@ struct RenderSettings {
     int threads = 0;            ///< 0: all hardware threads
     int tile_size = 32;
     int pass_spp = 0;           ///< samples per pass; 0: chosen automatically
+    int first_sample = 0;       ///< samples per pixel already in the film (resuming)
     IntegratorSettings integrator;
 };
+
+/// Samples per pass actually used for these settings.
+int effective_pass_spp(const RenderSettings& settings);
 
 struct RenderStats {
     double seconds = 0;
     std::uint64_t paths = 0;
     std::uint64_t rays = 0;
-    int passes_completed = 0;
-    int passes_total = 0;
+    int passes_completed = 0;   ///< passes finished in this run
+    int passes_total = 0;       ///< passes this run set out to render
+    int samples_completed = 0;  ///< samples per pixel in the film after the last whole pass
     bool cancelled = false;
 };
 
 /// Called by the rendering thread about five times a second: (paths done, paths in total).
 using ProgressCallback = std::function<void(std::uint64_t, std::uint64_t)>;
+/// Called by the rendering thread after each whole pass, with the samples per pixel in the film.
+using PassCallback = std::function<void(int)>;
 
-/// Renders into `film` (which must match the settings' size). If `cancel` becomes true the
-/// render stops after the tiles in flight; the film then holds whole passes plus part of one,
-/// each pixel with its own sample count.
+struct RenderHooks {
+    ProgressCallback progress;
+    PassCallback pass_completed;
+    const std::atomic<bool>* cancel = nullptr;  ///< set (e.g. by a signal) to stop early
+};
+
+/// Renders samples [first_sample, spp) of every pixel into `film` (which must match the
+/// settings' size), in passes of effective_pass_spp samples. If
+/// hooks.cancel becomes true the render stops after the tiles in flight; the film then holds
+/// whole passes plus part of one, each pixel with its own sample count.
 RenderStats render(const Scene& scene, const RenderSettings& settings, Film& film,
-                   const ProgressCallback& progress = {}, const std::atomic<bool>* cancel = nullptr);
+                   const RenderHooks& hooks = {});
 
 /// Renders one pixel's samples [first, end) into the film (the unit every path takes).
 void render_pixel(const Scene& scene, const RenderSettings& settings, const Camera& camera, int x,

@@ -22,7 +22,7 @@ struct SceneError : std::runtime_error {
 struct Scene {
     std::string name;
     CameraSpec camera;
-    int width = 512, height = 512, spp = 64;  ///< defaults the command line may override
+    int width = 512, height = 512, spp = 128;  ///< defaults the command line may override
 
     std::vector<Material> materials;
     std::vector<Sphere> spheres;

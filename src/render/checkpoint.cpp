@@ -1,0 +1,103 @@
+// Checkpoint file: a text header line, the film state, and an FNV-1a checksum of both, so a
+// truncated or corrupted file is refused instead of resumed.
+#include "render/checkpoint.h"
+
+#include <cstring>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+#include "io/atomic_file.h"
+
+namespace spt {
+
+namespace {
+
+constexpr const char* kMagic = "spt-checkpoint-1";
+
+std::uint64_t fnv1a(std::string_view bytes) {
+    std::uint64_t h = 0xcbf29ce484222325ull;
+    for (unsigned char c : bytes) h = (h ^ c) * 0x100000001b3ull;
+    return h;
+}
+
+std::string header_line(const CheckpointInfo& i) {
+    std::ostringstream s;
+    s << kMagic << ' ' << i.scene.size() << ':' << i.scene << ' ' << i.width << ' ' << i.height
+      << ' ' << i.spp << ' ' << i.spectral_bins << ' ' << i.max_depth << ' '
+      << i.seed << ' ' << i.samples_completed << '\n';
+    return s.str();
+}
+
+struct Parsed {
+    CheckpointInfo info;
+    std::string_view film_state;
+};
+
+Parsed parse(const std::string& path, const std::string& bytes) {
+    auto fail = [&](const std::string& why) -> std::runtime_error {
+        return std::runtime_error("cannot resume from '" + path + "': " + why);
+    };
+    if (bytes.size() < 8) throw fail("file is truncated");
+    std::uint64_t stored;
+    std::memcpy(&stored, bytes.data() + bytes.size() - 8, 8);
+    const std::string_view body(bytes.data(), bytes.size() - 8);
+    if (fnv1a(body) != stored) throw fail("checksum mismatch (file is truncated or corrupt)");
+    const std::size_t eol = body.find('\n');
+    if (eol == std::string_view::npos) throw fail("no header line");
+    std::istringstream h(std::string(body.substr(0, eol)));
+    std::string magic, scene_field;
+    Parsed p;
+    h >> magic >> scene_field;
+    if (magic != kMagic) throw fail("not a checkpoint of this program version");
+    const std::size_t colon = scene_field.find(':');
+    if (colon == std::string::npos) throw fail("malformed header");
+    p.info.scene = scene_field.substr(colon + 1);
+    h >> p.info.width >> p.info.height >> p.info.spp >> p.info.spectral_bins >> p.info.max_depth >>
+        p.info.seed >> p.info.samples_completed;
+    if (!h) throw fail("malformed header");
+    p.film_state = body.substr(eol + 1);
+    return p;
+}
+
+std::string read_all(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw std::runtime_error("cannot resume from '" + path + "': cannot open the file");
+    std::ostringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+}  // namespace
+
+std::string CheckpointInfo::describe() const {
+    std::ostringstream s;
+    s << "scene " << scene << ", " << width << "x" << height << ", " << spp << " spp, seed " << seed
+      << ", spectral bins " << spectral_bins << ", max depth " << max_depth;
+    return s.str();
+}
+
+void save_checkpoint(const std::string& path, const CheckpointInfo& info, const std::string& film_state) {
+    std::string bytes = header_line(info) + film_state;
+    const std::uint64_t sum = fnv1a(bytes);
+    bytes.append(reinterpret_cast<const char*>(&sum), sizeof sum);
+    write_file_atomically(path, bytes);
+}
+
+CheckpointInfo read_checkpoint_info(const std::string& path) {
+    const std::string bytes = read_all(path);
+    return parse(path, bytes).info;
+}
+
+CheckpointInfo load_checkpoint(const std::string& path, Film& film) {
+    const std::string bytes = read_all(path);
+    const Parsed p = parse(path, bytes);
+    try {
+        film.restore_state(p.film_state);
+    } catch (const std::runtime_error& e) {
+        throw std::runtime_error("cannot resume from '" + path + "': " + e.what());
+    }
+    return p.info;
+}
+
+}  // namespace spt
