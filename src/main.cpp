@@ -4,6 +4,7 @@
 #include <csignal>
 #include <cstdio>
 #include <exception>
+#include <filesystem>
 #include <string>
 #include <thread>
 #include <vector>
@@ -53,7 +54,7 @@ void write_outputs(const spt::Options& opt, const std::vector<std::string>& outp
                          {float(space.green[0]), float(space.green[1])},
                          {float(space.blue[0]), float(space.blue[1])},
                          {float(space.white[0]), float(space.white[1])}};
-    for (const std::string& path : outputs) spt::write_image(path, image, wo);
+    spt::write_images(outputs, image, wo);
 }
 
 int run(const spt::Options& opt) {
@@ -75,6 +76,13 @@ int run(const spt::Options& opt) {
 
     std::vector<std::string> outputs = opt.outputs;
     if (outputs.empty()) outputs.push_back(scene->name + ".png");
+    // Fail before a long render, not after it, when an image cannot be written there.
+    for (const std::string& path : outputs) {
+        const std::filesystem::path dir = std::filesystem::path(path).parent_path();
+        if (!dir.empty() && !std::filesystem::is_directory(dir))
+            throw std::runtime_error("cannot write '" + path + "': directory '" + dir.string() +
+                                     "' does not exist");
+    }
 
     // ---- Checkpoints: what must match to resume, and the state of the last whole pass ----
     spt::CheckpointInfo info{opt.scene, rs.width, rs.height, rs.spp, opt.spectral.bins,

@@ -301,7 +301,8 @@ TEST(ExrWriter, PixelsReadBackViaOffsetTable) {
         for (int k = 0; k < 3; ++k) {
             for (int x = 0; x < 6; ++x) {
                 const std::size_t pos = offset + 8 + (static_cast<std::size_t>(k) * 6 + x) * 4;
-                EXPECT_EQ(le32(s, pos), std::bit_cast<std::uint32_t>(image.pixel(x, y)[channel_of[k]]))
+                const float expected = image.pixel(x, y)[channel_of[k]];
+                EXPECT_EQ(le32(s, pos), std::bit_cast<std::uint32_t>(expected))
                     << "x=" << x << " y=" << y << " k=" << k;
             }
         }
@@ -435,7 +436,8 @@ private:
         throw std::runtime_error("bad code");
     }
     void inflate_dynamic(std::vector<std::uint8_t>& out) {
-        static const int kOrder[19] = {16, 17, 18, 0, 8, 7, 9, 6, 10, 5, 11, 4, 12, 3, 13, 2, 14, 1, 15};
+        static const int kOrder[19] = {16, 17, 18, 0,  8, 7,  9, 6,  10, 5,
+                                       11, 4,  12, 3, 13, 2, 14, 1, 15};
         const int hlit = static_cast<int>(bits(5)) + 257, hdist = static_cast<int>(bits(5)) + 1;
         const int hclen = static_cast<int>(bits(4)) + 4;
         std::vector<int> cl_lengths(19, 0);
@@ -461,8 +463,9 @@ private:
                       Code({lengths.begin() + hlit, lengths.end()}));
     }
     void inflate_codes(std::vector<std::uint8_t>& out, const Code& litlen, const Code& dist) {
-        static const int kLenBase[29] = {3,  4,  5,  6,  7,  8,  9,  10, 11,  13,  15,  17,  19,  23, 27,
-                                         31, 35, 43, 51, 59, 67, 83, 99, 115, 131, 163, 195, 227, 258};
+        static const int kLenBase[29] = {3,  4,  5,  6,  7,  8,  9,  10,  11,  13,
+                                         15, 17, 19, 23, 27, 31, 35, 43,  51,  59,
+                                         67, 83, 99, 115, 131, 163, 195, 227, 258};
         static const int kLenExtra[29] = {0, 0, 0, 0, 0, 0, 0, 0, 1, 1, 1, 1, 2, 2, 2,
                                           2, 3, 3, 3, 3, 4, 4, 4, 4, 5, 5, 5, 5, 0};
         for (;;) {
@@ -622,8 +625,9 @@ TEST(PngWriter, NoisyImageUsesStoredAndDynamicBlocks) {
     std::normal_distribution<float> noise(0.0f, 0.02f);
     std::vector<int> expected;
     const Image image = make_image(160, 240, [&](int x, int y, int c) {
-        const int code = y < 100 ? byte(rng) : std::clamp(160 + (x / 40 + c) % 3 * 20 +
-                                                          static_cast<int>(255 * noise(rng)), 0, 255);
+        const int flat = 160 + (x / 40 + c) % 3 * 20;
+        const int code = y < 100 ? byte(rng)
+                                 : std::clamp(flat + static_cast<int>(255 * noise(rng)), 0, 255);
         expected.push_back(code);
         return static_cast<float>(srgb_to_linear(code / 255.0));
     });
@@ -704,7 +708,8 @@ TEST_F(WriteImage, UnsupportedExtensionNamesFile) {
         FAIL() << "no exception";
     } catch (const std::runtime_error& e) {
         EXPECT_EQ(std::string(e.what()),
-                  "unsupported image extension '.bmp' for 'x.bmp' (expected .png, .exr, .pfm, .ppm)");
+                  "unsupported image extension '.bmp' for 'x.bmp' "
+                  "(expected .png, .exr, .pfm, .ppm)");
     }
     try {
         write_image("noext", image, {});
@@ -720,7 +725,8 @@ TEST_F(WriteImage, ErrorsNameTheFile) {
         write_image(missing, Image{1, 1, {0, 0, 0}}, {});
         FAIL() << "no exception";
     } catch (const std::runtime_error& e) {
-        EXPECT_EQ(std::string(e.what()), "cannot write '" + missing + "': No such file or directory");
+        EXPECT_EQ(std::string(e.what()),
+                  "cannot write '" + missing + "': No such file or directory");
     }
     const std::string bad = dir_ / "bad.exr";
     try {

@@ -169,10 +169,16 @@ def parse_summary(stderr: str, n_paths: int, cmd_text: str) -> tuple[float, floa
     return t, paths_s, rays_s
 
 
-def run_render(program: Path, scene: str, size: int, spp: int, threads: int, seed: int, out: Path) -> Run:
-    cmd = [str(program), scene, "--spp", str(spp), "--width", str(size), "--height", str(size),
+@dataclass
+class Program:
+    path: Path  # the private copy that is run
+    shown: Path  # the path the user gave, for messages
+
+
+def run_render(program: Program, scene: str, size: int, spp: int, threads: int, seed: int, out: Path) -> Run:
+    cmd = [str(program.path), scene, "--spp", str(spp), "--width", str(size), "--height", str(size),
            "-o", str(out), "--threads", str(threads), "--seed", str(seed)]
-    cmd_text = " ".join(cmd)
+    cmd_text = " ".join([str(program.shown)] + cmd[1:])
     if out.exists():
         out.unlink()
     t0 = time.perf_counter()
@@ -192,21 +198,21 @@ def run_render(program: Path, scene: str, size: int, spp: int, threads: int, see
     return Run(t, paths_s, rays_s, wall, img)
 
 
-def program_version(program: Path) -> str:
+def program_version(program: Program) -> str:
     try:
-        proc = subprocess.run([str(program), "--version"], capture_output=True, text=True,
+        proc = subprocess.run([str(program.path), "--version"], capture_output=True, text=True,
                               errors="replace", stdin=subprocess.DEVNULL, timeout=60)
     except (OSError, subprocess.TimeoutExpired) as e:
-        raise BenchError(f"cannot run {program} --version: {e}") from None
+        raise BenchError(f"cannot run {program.shown} --version: {e}") from None
     version = proc.stdout.strip() or proc.stderr.strip()
     if proc.returncode != 0 or not version:
-        raise BenchError(f"{program} --version failed (status {proc.returncode}): {version!r}")
+        raise BenchError(f"{program.shown} --version failed (status {proc.returncode}): {version[:200]!r}")
     return version.splitlines()[0]
 
 
-def list_scenes(program: Path) -> list[str] | None:
+def list_scenes(program: Program) -> list[str] | None:
     try:
-        proc = subprocess.run([str(program), "--list-scenes"], capture_output=True, text=True,
+        proc = subprocess.run([str(program.path), "--list-scenes"], capture_output=True, text=True,
                               errors="replace", stdin=subprocess.DEVNULL, timeout=60)
     except (OSError, subprocess.TimeoutExpired):
         return None
@@ -254,7 +260,7 @@ def safe_name(text: str) -> str:
     return re.sub(r"[^A-Za-z0-9._+-]+", "_", text).strip("_") or "x"
 
 
-def reference_image(program: Path, version: str, binary_sha: str, scene: str, size: int, spp: int,
+def reference_image(program: Program, version: str, binary_sha: str, scene: str, size: int, spp: int,
                     cache_dir: Path, threads: int, scratch: Path) -> np.ndarray:
     stem = f"ref_{safe_name(scene)}_{size}x{size}_{spp}spp_seed{REFERENCE_SEED}_{safe_name(version)}"
     pfm = cache_dir / f"{stem}.pfm"
@@ -325,7 +331,7 @@ class Measurement:
         return 1.0 / (self.rel_mse * self.time_median) if self.rel_mse > 0 else math.inf
 
 
-def measure(program: Path, scene: str, size: int, spp: int, threads: int, seeds: list[int],
+def measure(program: Program, scene: str, size: int, spp: int, threads: int, seeds: list[int],
             ref: np.ndarray, scratch: Path) -> Measurement:
     m = Measurement([], [], [], [])
     out = scratch / "render.pfm"
@@ -416,9 +422,9 @@ def main(argv: list[str] | None = None) -> int:
         scratch = Path(scratch_name)
         # Run a private copy, so a rebuild of the program during the benchmark
         # cannot mix two builds in one set of numbers.
-        program = scratch / "pathtracer"
-        shutil.copy2(program_src, program)
-        binary_sha = sha256_file(program)
+        program = Program(scratch / "pathtracer", program_src)
+        shutil.copy2(program_src, program.path)
+        binary_sha = sha256_file(program.path)
         version = program_version(program)
         known = list_scenes(program)
         if known is not None:

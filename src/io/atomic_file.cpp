@@ -11,18 +11,21 @@
 
 namespace spt {
 
-void write_file_atomically(const std::string& path, const std::string& bytes) {
+namespace {
+
+std::runtime_error write_error(const std::string& path, int err) {
+    return std::runtime_error("cannot write '" + path + "': " + std::strerror(err));
+}
+
+/// Writes bytes to a fresh temporary file beside `path`; returns its name (throws on failure).
+std::string write_temporary(const std::string& path, const std::string& bytes) {
     // Same directory as the target so that rename() stays on one file system and is atomic;
     // pid + counter keep concurrent writers (processes or threads) off each other's files.
     static std::atomic<unsigned> counter{0};
     const std::string tmp =
         path + ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(counter++);
-
-    auto fail = [&](int err) {
-        return std::runtime_error("cannot write '" + path + "': " + std::strerror(err));
-    };
     std::FILE* file = std::fopen(tmp.c_str(), "wbx");  // x: never clobber an existing file
-    if (!file) throw fail(errno);
+    if (!file) throw write_error(path, errno);
 
     int err = 0;
     auto note = [&err](bool ok) {
@@ -33,10 +36,35 @@ void write_file_atomically(const std::string& path, const std::string& bytes) {
     note(std::fflush(file) == 0);
     note(::fsync(::fileno(file)) == 0);  // contents on disk before the rename publishes them
     note(std::fclose(file) == 0);
-    if (err == 0) note(std::rename(tmp.c_str(), path.c_str()) == 0);
     if (err != 0) {
         std::remove(tmp.c_str());
-        throw fail(err);
+        throw write_error(path, err);
+    }
+    return tmp;
+}
+
+}  // namespace
+
+void write_file_atomically(const std::string& path, const std::string& bytes) {
+    write_files_atomically({{path, bytes}});
+}
+
+void write_files_atomically(const std::vector<std::pair<std::string, std::string>>& files) {
+    // Every file is written in full before any is published: a failure on one leaves all the
+    // existing targets untouched.
+    std::vector<std::string> temporaries;
+    try {
+        for (const auto& [path, bytes] : files) temporaries.push_back(write_temporary(path, bytes));
+    } catch (...) {
+        for (const std::string& tmp : temporaries) std::remove(tmp.c_str());
+        throw;
+    }
+    for (std::size_t i = 0; i < files.size(); ++i) {
+        if (std::rename(temporaries[i].c_str(), files[i].first.c_str()) != 0) {
+            const int err = errno;
+            for (std::size_t j = i; j < files.size(); ++j) std::remove(temporaries[j].c_str());
+            throw write_error(files[i].first, err);
+        }
     }
 }
 

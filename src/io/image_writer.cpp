@@ -48,7 +48,10 @@ std::string encode_image(const Image& image, ImageFormat format,
     throw std::invalid_argument("unknown image format");
 }
 
-void write_image(const std::string& path, const Image& image, const ImageWriteOptions& options) {
+namespace {
+
+std::string encode_for_path(const std::string& path, const Image& image,
+                            const ImageWriteOptions& options) {
     const std::optional<ImageFormat> format = image_format_from_path(path);
     if (!format) {
         const std::string ext = lower_extension(path);
@@ -58,13 +61,24 @@ void write_image(const std::string& path, const Image& image, const ImageWriteOp
                                                            "'") +
             " for '" + path + "' (expected .png, .exr, .pfm, .ppm)");
     }
-    std::string bytes;
     try {
-        bytes = encode_image(image, *format, options);
+        return encode_image(image, *format, options);
     } catch (const std::invalid_argument& e) {
         throw std::runtime_error("cannot write '" + path + "': " + e.what());
     }
-    write_file_atomically(path, bytes);
+}
+
+}  // namespace
+
+void write_image(const std::string& path, const Image& image, const ImageWriteOptions& options) {
+    write_images({path}, image, options);
+}
+
+void write_images(const std::vector<std::string>& paths, const Image& image,
+                  const ImageWriteOptions& options) {
+    std::vector<std::pair<std::string, std::string>> files;
+    for (const std::string& path : paths) files.emplace_back(path, encode_for_path(path, image, options));
+    write_files_atomically(files);
 }
 
 }  // namespace spt

@@ -3,6 +3,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "io/image.h"
 
@@ -30,5 +31,9 @@ std::string encode_image(const Image& image, ImageFormat format, const ImageWrit
 /// Encodes by extension and writes atomically. Throws std::runtime_error naming the file on an
 /// unknown extension or any write error.
 void write_image(const std::string& path, const Image& image, const ImageWriteOptions& options);
+
+/// Writes one image to several files; none is replaced unless all of them can be written.
+void write_images(const std::vector<std::string>& paths, const Image& image,
+                  const ImageWriteOptions& options);
 
 }  // namespace spt

@@ -1,5 +1,5 @@
-// 8-bit sRGB PNG with our own zlib stream: hashed LZ77 + fixed-Huffman deflate, falling back to
-// stored blocks where that is smaller (noise), per-row adaptive filtering, CRC32 and Adler-32.
+// 8-bit sRGB PNG with our own zlib stream: hashed LZ77, then per block the smallest of stored,
+// fixed-Huffman and dynamic-Huffman deflate; per-row adaptive filtering; CRC32 and Adler-32.
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -105,9 +105,9 @@ PrefixCode canonical_code(std::vector<int> lengths) {
     return {std::move(lengths), std::move(codes)};
 }
 
-/// Huffman code lengths of at most `limit` bits. At least two symbols get a code so that the
-/// code is complete (strict inflaters reject incomplete codes). Too deep trees are rebuilt from
-/// flattened frequencies: simple, and rarely needed.
+/// Huffman code lengths of at most `limit` bits (needs freq.size() <= 2^limit). At least two
+/// symbols get a code so that the code is complete (strict inflaters reject incomplete codes).
+/// Too deep trees are rebuilt from flattened frequencies: simple, and rarely needed.
 std::vector<int> huffman_lengths(std::vector<std::uint64_t> freq, int limit) {
     const int n = static_cast<int>(freq.size());
     for (int i = 0, used = static_cast<int>(std::count_if(freq.begin(), freq.end(),
@@ -301,8 +301,8 @@ private:
         const int max_length = std::min(kMaxMatch, end - pos);
         if (max_length < kMinMatch) return best;
         int candidate = head_[hash(pos)];
-        // prev_ entries of positions within the window are never overwritten yet, so the chain
-        // is valid as long as the distance check holds.
+        // A position's prev_ slot is reused only when the position kWindow later is inserted,
+        // so the links are valid as long as the distance check holds.
         for (int steps = 0; candidate >= 0 && pos - candidate <= kWindow && steps < kMaxChain;
              ++steps, candidate = prev_[candidate & (kWindow - 1)]) {
             const int floor = std::max(best.length, kMinMatch - 1);

@@ -76,6 +76,7 @@ std::optional<BsdfSample> sample_dielectric(const Material& mat, const Vec3& wo,
 
 std::optional<BsdfSample> sample_bsdf(const Material& mat, const Vec3& wo, const Vec3& n,
                                       SampledWavelengths& lambda, float u_lobe, float u1, float u2) {
+    if (dot(wo, n) == 0.f) return std::nullopt;  // exactly tangent: no side to scatter to
     if (!mat.has_mirror() && !mat.has_transmission()) return sample_diffuse(mat, wo, n, lambda, u1, u2, 1.f);
     const SampledSpectrum kd = mat.kd.sample(lambda);
     const SampledSpectrum ks = mat.ks.sample(lambda);

@@ -88,8 +88,9 @@ void Scene::finalize() {
     for (int i = 0; i < static_cast<int>(planes.size()); ++i) {
         const Plane& p = planes[i];
         int axis = -1;
+        // Only exactly axis-aligned normals: a tiny tilt can round a component to 1.
         for (int a = 0; a < 3; ++a)
-            if (std::fabs(p.normal[a]) == 1.f) axis = a;
+            if (p.normal[(a + 1) % 3] == 0.f && p.normal[(a + 2) % 3] == 0.f) axis = a;
         if (axis >= 0) m_axis_planes.push_back({p.normal[axis] * p.offset, axis, i});
         else m_general_planes.push_back(i);
     }
