@@ -82,6 +82,8 @@ int run(const spt::Options& opt) {
         if (!dir.empty() && !std::filesystem::is_directory(dir))
             throw std::runtime_error("cannot write '" + path + "': directory '" + dir.string() +
                                      "' does not exist");
+        if (std::filesystem::is_directory(path))
+            throw std::runtime_error("cannot write '" + path + "': it is a directory");
     }
 
     // ---- Checkpoints: what must match to resume, and the state of the last whole pass ----

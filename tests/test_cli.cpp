@@ -71,7 +71,7 @@ protected:
     }
     void TearDown() override {
         std::error_code ec;
-        if (!HasFailure()) fs::remove_all(m_base, ec);  // kept on failure for inspection
+        fs::remove_all(m_base, ec);
     }
 
     /// Runs the program with `args` in the work directory (stdout/stderr go to the logs
@@ -172,6 +172,9 @@ TEST_F(Cli, BadArgumentsExitTwoWithOneLineNamingTheFlag) {
         {{"nosuchscene"}, {"nosuchscene", "cornell"}},
         {{"cornell", "cornell-point"}, {"cornell-point"}},
         {{"--quiet=yes"}, {"--quiet"}},
+        {{"--pass-spp", "0"}, {"--pass-spp"}},
+        {{"--checkpoint-interval", "-1"}, {"--checkpoint-interval"}},
+        {{"--checkpoint", ""}, {"--checkpoint"}},
         {{"--spp"}, {"--spp"}},  // missing value at the end
         {{"-o"}, {"-o"}},
         {{"--spectral-bins"}, {"--spectral-bins"}},
@@ -232,6 +235,29 @@ TEST_F(Cli, ExistingOutputIsUntouchedWhenAnotherOutputFails) {
     EXPECT_TRUE(read_file(m_dir / "keep.png") == "precious bytes")
         << "the run failed (exit " << r.exit_code << ") but replaced the existing keep.png";
     EXPECT_EQ(files(), std::set<std::string>{"keep.png"});
+}
+
+/// The same when the second output names an existing directory: the image can be encoded but
+/// not put in place, and the first output must still be untouched.
+TEST_F(Cli, ExistingOutputIsUntouchedWhenAnotherOutputIsADirectory) {
+    write_file(m_dir / "keep.png", "precious bytes");
+    fs::create_directory(m_dir / "sub.png");
+    const RunResult r = run(tiny({"-o", "keep.png", "-o", "sub.png"}));
+    EXPECT_NE(r.exit_code, 0);
+    EXPECT_TRUE(is_one_line(r.err)) << r.err;
+    EXPECT_NE(r.err.find("sub.png"), std::string::npos) << r.err;
+    EXPECT_TRUE(read_file(m_dir / "keep.png") == "precious bytes")
+        << "the run failed (exit " << r.exit_code << ") but replaced the existing keep.png";
+    EXPECT_TRUE(fs::is_directory(m_dir / "sub.png"));
+    EXPECT_EQ(files(), (std::set<std::string>{"keep.png", "sub.png"})) << "temporary files left behind";
+}
+
+/// The same output named twice is written once, successfully.
+TEST_F(Cli, RepeatedIdenticalOutputIsFine) {
+    const RunResult r = run(tiny({"-o", "a.pfm", "-o", "a.pfm"}));
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_EQ(files(), std::set<std::string>{"a.pfm"});
+    EXPECT_EQ(read_file(m_dir / "a.pfm").substr(0, 3), "PF\n");
 }
 
 void expect_valid_images(const fs::path& dir, const std::string& stem, int w, int h) {

@@ -719,6 +719,19 @@ TEST_F(WriteImage, UnsupportedExtensionNamesFile) {
     }
 }
 
+TEST_F(WriteImage, SeveralFilesReplaceNoneWhenOneFails) {
+    const std::string good = dir_ / "a.pfm";
+    write_file_atomically(good, "old");
+    const std::string missing = dir_ / "missing" / "a.exr";
+    EXPECT_THROW(write_images({good, missing}, Image{1, 1, {1, 2, 3}}, {}), std::runtime_error);
+    EXPECT_EQ(read_file(good), "old");
+    EXPECT_FALSE(has_temp_file());
+
+    write_images({good, dir_ / "a.png"}, Image{1, 1, {1, 2, 3}}, {});
+    EXPECT_EQ(read_file(good), encode_image(Image{1, 1, {1, 2, 3}}, ImageFormat::Pfm, {}));
+    EXPECT_EQ(entries().size(), 2u);
+}
+
 TEST_F(WriteImage, ErrorsNameTheFile) {
     const std::string missing = dir_ / "missing" / "x.png";
     try {

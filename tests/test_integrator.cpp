@@ -58,7 +58,7 @@ TEST(IntegratorFurnace, PointLightAtCentreGivesOne) {
     EXPECT_LT(m.standard_error, 0.002) << "too few samples for the test to mean anything";
 }
 
-/// Four point lights of I = π/4 at the centre region give the same answer (pbrt's variant),
+/// Four point lights of I = π/4, all at the centre, give the same answer (pbrt's variant),
 /// which checks that next-event estimation sums over lights.
 TEST(IntegratorFurnace, FourPointLightsOfQuarterIntensityGiveOne) {
     Scene scene = closed_sphere_scene(diffuse_material(0.5));

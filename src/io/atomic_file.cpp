@@ -1,6 +1,7 @@
 // Atomic whole-file write: temporary file in the same directory, flush, fsync, rename.
 #include "io/atomic_file.h"
 
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -52,6 +53,12 @@ void write_file_atomically(const std::string& path, const std::string& bytes) {
 void write_files_atomically(const std::vector<std::pair<std::string, std::string>>& files) {
     // Every file is written in full before any is published: a failure on one leaves all the
     // existing targets untouched.
+    // A target that is a directory would fail at rename time, after earlier files were
+    // replaced: refuse it before anything is written.
+    for (const auto& file : files) {
+        struct stat st;
+        if (::stat(file.first.c_str(), &st) == 0 && S_ISDIR(st.st_mode)) throw write_error(file.first, EISDIR);
+    }
     std::vector<std::string> temporaries;
     try {
         for (const auto& [path, bytes] : files) temporaries.push_back(write_temporary(path, bytes));

@@ -10,6 +10,7 @@ namespace spt {
 /// the incident side) ≥ 0 and eta = n_transmitted / n_incident. Returns 1 under total
 /// internal reflection.
 inline float fresnel_dielectric(float cos_i, float eta) {
+    if (eta == 1.f) return 0.f;  // no interface (1 − cos² would round to 1 at grazing angles)
     cos_i = std::clamp(cos_i, 0.f, 1.f);
     const float sin2_t = (1.f - cos_i * cos_i) / (eta * eta);
     if (sin2_t >= 1.f) return 1.f;
