@@ -23,6 +23,7 @@ struct Vec3 {
     Vec3& operator+=(const Vec3& b) { x += b.x; y += b.y; z += b.z; return *this; }
     Vec3& operator-=(const Vec3& b) { x -= b.x; y -= b.y; z -= b.z; return *this; }
     Vec3& operator*=(float s) { x *= s; y *= s; z *= s; return *this; }
+    Vec3& operator/=(float s) { x /= s; y /= s; z /= s; return *this; }
     constexpr bool operator==(const Vec3&) const = default;
 };
 
