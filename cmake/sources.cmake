@@ -18,6 +18,7 @@ set(SPT_CORE_SOURCES
     src/scene/effects.cpp
     src/scene/scene.cpp
     src/spectral/cie.cpp
+    src/spectral/glass_catalog.cpp
     src/spectral/color_space.cpp
     src/spectral/spectral_table.cpp
     src/spectral/spectrum.cpp

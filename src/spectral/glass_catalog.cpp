@@ -32,8 +32,10 @@ SpectrumSource make_ior(std::string_view model, const std::array<double, 8>& k,
             throw std::runtime_error(where + ": cauchy uses k1..k3 only");
         return SpectrumSource::cauchy(k[0], k[1], k[2]);
     }
-    if (model != "sellmeier") throw std::runtime_error(where + ": unknown model '" + std::string(model) + "'");
-    if (k[6] == 0 && k[7] == 0) return SpectrumSource::sellmeier(k[0], k[1], k[2], k[3], k[4], k[5]);
+    if (model != "sellmeier")
+        throw std::runtime_error(where + ": unknown model '" + std::string(model) + "'");
+    if (k[6] == 0 && k[7] == 0)
+        return SpectrumSource::sellmeier(k[0], k[1], k[2], k[3], k[4], k[5]);
     // SpectrumSource has three Sellmeier terms; a fourth (water) is tabulated every 0.5 nm
     // over 200-1100 nm: linear interpolation stays within 4e-8 of the formula over 360-830 nm,
     // below the float resolution of n.
@@ -55,7 +57,7 @@ double parse_number(std::string_view s, const std::string& where) {
 
 bool iequals(std::string_view a, std::string_view b) {
     return a.size() == b.size() && std::equal(a.begin(), a.end(), b.begin(), [](char x, char y) {
-               const auto lower = [](char c) { return c >= 'A' && c <= 'Z' ? char(c - 'A' + 'a') : c; };
+               const auto lower = [](char c) { return c >= 'A' && c <= 'Z' ? char(c + 32) : c; };
                return lower(x) == lower(y);
            });
 }
@@ -75,7 +77,8 @@ std::vector<GlassInfo> parse_glass_catalog(std::string_view text, const std::str
         if (line.empty() || line.front() == '#') continue;
         const std::string where = origin + ":" + std::to_string(line_no);
         if (!header_seen) {
-            if (line != kHeader) throw std::runtime_error(where + ": expected the header '" + std::string(kHeader) + "'");
+            if (line != kHeader)
+                throw std::runtime_error(where + ": expected the header " + std::string(kHeader));
             header_seen = true;
             continue;
         }
@@ -88,7 +91,8 @@ std::vector<GlassInfo> parse_glass_catalog(std::string_view text, const std::str
         }
         f.push_back(line);
         if (static_cast<int>(f.size()) != kFields || f[0].empty() || f.back().empty())
-            throw std::runtime_error(where + ": expected " + std::string(kHeader) + " with a name and a source");
+            throw std::runtime_error(where + ": expected " + std::string(kHeader) +
+                                     " with a name and a source");
 
         GlassInfo g;
         g.name = f[0];
@@ -100,9 +104,11 @@ std::vector<GlassInfo> parse_glass_catalog(std::string_view text, const std::str
         g.source = f[12];
         // A shifted column or a pole near the visible gives no physical index at the d line.
         const double n_d = g.ior.eval(kLineD);
-        if (!(n_d > 1.0 && std::isfinite(n_d))) throw std::runtime_error(where + ": index at 587.56 nm is not finite and > 1");
+        if (!(n_d > 1.0 && std::isfinite(n_d)))
+            throw std::runtime_error(where + ": index at 587.56 nm is not finite and > 1");
         for (const GlassInfo& other : glasses)
-            if (iequals(other.name, g.name)) throw std::runtime_error(where + ": duplicate name " + g.name);
+            if (iequals(other.name, g.name))
+                throw std::runtime_error(where + ": duplicate name " + g.name);
         glasses.push_back(std::move(g));
     }
     if (glasses.empty()) throw std::runtime_error(origin + ": no glasses");
