@@ -1,6 +1,7 @@
 // The pathtracer program: parse flags, build the scene, render, write the images.
 #include <cstdio>
 #include <exception>
+#include <filesystem>
 #include <string>
 #include <thread>
 #include <vector>
@@ -9,7 +10,8 @@
 #include "cli/progress_bar.h"
 #include "io/image_writer.h"
 #include "render/renderer.h"
-#include "scene/builtin_scenes.h"
+#include "io/json.h"
+#include "scene/scene_loader.h"
 
 namespace {
 
@@ -31,13 +33,20 @@ void print_summary(const spt::Scene& scene, const spt::RenderSettings& rs, const
                  static_cast<unsigned long long>(film.rejected_negative()));
 }
 
+/// SCENE is a built-in name or a path to a scene file (anything ending in .json or naming an
+/// existing file); anything else is a usage error.
+std::optional<spt::Scene> load_scene(const spt::Options& opt) {
+    if (std::optional<spt::Scene> scene = spt::load_builtin_scene(opt.scene, opt.spectral)) return scene;
+    std::error_code ec;
+    if (opt.scene.ends_with(".json") || std::filesystem::is_regular_file(opt.scene, ec))
+        return spt::load_scene_file(opt.scene, opt.spectral);
+    std::string names;
+    for (const std::string& n : spt::builtin_scene_names()) names += (names.empty() ? "" : ", ") + n;
+    throw spt::UsageError("SCENE: expected a scene file (.json) or one of " + names + ", got '" + opt.scene + "'");
+}
+
 int run(const spt::Options& opt) {
-    std::optional<spt::Scene> scene = spt::make_builtin_scene(opt.scene, opt.spectral);
-    if (!scene) {
-        std::string names;
-        for (const std::string& n : spt::builtin_scene_names()) names += (names.empty() ? "" : ", ") + n;
-        throw spt::UsageError("SCENE: expected one of " + names + ", got '" + opt.scene + "'");
-    }
+    std::optional<spt::Scene> scene = load_scene(opt);
     spt::RenderSettings rs;
     rs.width = opt.width.value_or(scene->width);
     rs.height = opt.height.value_or(scene->height);
@@ -95,6 +104,9 @@ int main(int argc, char** argv) {
             return 0;
         }
         return run(opt);
+    } catch (const spt::LocatedError& e) {  // a scene file: "file:line:column: message"
+        std::fprintf(stderr, "%s\n", e.what());
+        return kExitRuntimeError;
     } catch (const spt::UsageError& e) {
         std::fprintf(stderr, "pathtracer: %s\n", e.what());
         return kExitUsage;

@@ -36,8 +36,9 @@ double parse_real(const std::string& flag, const std::string& text, double lo, d
 std::string usage_text() {
     return R"(Usage: pathtracer [SCENE] [options]
 
-Spectral Monte Carlo path tracer. SCENE is a built-in scene name (default: cornell);
-see --list-scenes.
+Spectral Monte Carlo path tracer. SCENE is a built-in scene name (default: cornell; see
+--list-scenes) or a scene file (.json, format in scenes/README.md). An error in a scene file
+is reported as FILE:LINE:COLUMN: message, with exit status 1.
 
 Options:
   --spp N                paths per pixel (1 to 1000000; default: the scene's)
