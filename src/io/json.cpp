@@ -141,6 +141,7 @@ private:
             skip_space();
             JsonValue member = parse_value(depth + 1);
             v.m_members.emplace_back(std::move(key), std::move(member));
+            v.m_key_positions.push_back(key_pos);
             skip_space();
             if (at_end()) fail("unexpected end of file; expected ',' or '}'");
             if (peek() == ',') {

@@ -53,6 +53,8 @@ public:
     const std::vector<JsonValue>& items() const { return m_items; }
     /// Members of an object, in file order (keys are unique).
     const std::vector<std::pair<std::string, JsonValue>>& members() const { return m_members; }
+    /// Position of the i-th member's key (its opening quote).
+    TextPos key_pos(std::size_t i) const { return m_key_positions[i]; }
     /// Member by key, or nullptr.
     const JsonValue* find(std::string_view key) const;
 
@@ -68,6 +70,7 @@ private:
     std::string m_string;
     std::vector<JsonValue> m_items;
     std::vector<std::pair<std::string, JsonValue>> m_members;
+    std::vector<TextPos> m_key_positions;
 };
 
 /// Parses a whole document; throws LocatedError naming `origin` on any defect.

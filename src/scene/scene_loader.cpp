@@ -126,10 +126,10 @@ private:
 
     void check_keys(const JsonValue& obj, const std::string& what, std::initializer_list<const char*> allowed) const {
         std::vector<std::string> names(allowed.begin(), allowed.end());
-        for (const auto& [key, value] : obj.members()) {
+        for (std::size_t i = 0; i < obj.members().size(); ++i) {
+            const std::string& key = obj.members()[i].first;
             if (std::find(names.begin(), names.end(), key) != names.end()) continue;
-            // The key's own position is just before its value; the value's is close enough.
-            fail(value.pos(), "unknown key " + quote_text(key) + " in " + what + "." + suggestion(key, names) +
+            fail(obj.key_pos(i), "unknown key " + quote_text(key) + " in " + what + "." + suggestion(key, names) +
                                   " Expected one of: " + join(names));
         }
     }
