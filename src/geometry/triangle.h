@@ -37,6 +37,8 @@ struct Triangle {
 
     /// Intersection with t in (0, t_max), or nullopt.
     std::optional<TriangleIntersection> intersect(const Ray& ray, double t_max) const {
+        // Zero-area triangles (pbrt's check): rounding could otherwise make them hittable.
+        if (length_squared(cross(p2 - p0, p1 - p0)) == 0.f) return std::nullopt;
         // Translate to the ray origin, permute so that z is the largest direction component
         // and shear so that the ray becomes the +z axis.
         const Vec3 ad = abs(ray.d);
