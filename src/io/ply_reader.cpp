@@ -75,6 +75,10 @@ public:
           m_body_start(start), m_origin(origin) {}
 
     std::size_t remaining() const { return m_bytes.size() - m_i; }
+    /// Whether `count` values of type t can still follow (each ASCII value takes ≥ 1 byte).
+    bool can_hold(double count, ScalarType t) const {
+        return count <= double(remaining()) / double(m_binary ? type_size(t) : 1);
+    }
 
     /// Position for messages: the token's line and column in ASCII; in binary the first body
     /// line, with the byte offset given in the message by fail().
@@ -317,8 +321,9 @@ PlyMesh parse_ply(std::string_view bytes, const std::string& origin) {
                 }
                 const TextPos count_pos = body.next_pos();
                 const double count = body.read(prop.count_type, "a list length");
-                if (count < 0 || count > double(body.remaining()))
-                    body.fail_at(count_pos, "list length " + std::to_string(static_cast<long long>(count)) + " is negative or longer than the rest of the file; expected a valid length");
+                if (count < 0 || !body.can_hold(count, prop.type))
+                    body.fail_at(count_pos, "list length " + std::to_string(static_cast<long long>(count)) +
+                                                " is negative or needs more data than the rest of the file holds; expected a valid length");
                 const bool is_face = e == face_element && p == prop_indices;
                 if (is_face && count < 3)
                     body.fail_at(count_pos, "face " + std::to_string(item) + " has " + std::to_string(static_cast<int>(count)) + " vertices; expected at least 3");

@@ -44,7 +44,7 @@ std::size_t edit_distance(std::string_view a, std::string_view b) {
 /// " Did you mean "x"?" when a candidate is close to `word`, else "".
 std::string suggestion(std::string_view word, const std::vector<std::string>& candidates) {
     std::string best;
-    std::size_t best_distance = std::max<std::size_t>(2, word.size() / 3) + 1;
+    std::size_t best_distance = std::max<std::size_t>(2, word.size() / 2) + 1;
     for (const std::string& c : candidates) {
         const std::size_t d = edit_distance(word.substr(0, 200), c);
         if (d < best_distance) best_distance = d, best = c;
