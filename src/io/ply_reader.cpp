@@ -71,8 +71,7 @@ std::vector<std::string_view> words(std::string_view line) {
 class BodyReader {
 public:
     BodyReader(std::string_view bytes, std::size_t start, bool binary, int line, const std::string& origin)
-        : m_bytes(bytes), m_i(start), m_binary(binary), m_line(line), m_line_start(start),
-          m_body_start(start), m_origin(origin) {}
+        : m_bytes(bytes), m_i(start), m_binary(binary), m_line(line), m_line_start(start), m_origin(origin) {}
 
     std::size_t remaining() const { return m_bytes.size() - m_i; }
     /// Whether `count` values of type t can still follow (each ASCII value takes ≥ 1 byte).
@@ -118,7 +117,7 @@ private:
     std::size_t m_i;
     bool m_binary;
     int m_line;
-    std::size_t m_line_start, m_body_start;
+    std::size_t m_line_start;
     const std::string& m_origin;
 
     void skip_space() {

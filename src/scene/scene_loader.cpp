@@ -329,7 +329,12 @@ private:
             if (x < 0 || x > 1)
                 fail(v.pos(), what + " rgb component " + number_text(x) +
                                   " is out of range; expected linear sRGB components in [0, 1] (use \"scale\" for brighter emission)");
-        SpectrumSource s = rgb_to_spectrum({c[0], c[1], c[2]});
+        SpectrumSource s;
+        try {
+            s = rgb_to_spectrum({c[0], c[1], c[2]});
+        } catch (const std::exception& e) {
+            fail(v.pos(), what + ": " + e.what() + "; expected an RGB reflectance that can be fitted");
+        }
         if (s.kind == SpectrumSource::Kind::Constant) return SpectrumSource::constant(s.p[0] * scale);
         s.p[3] = scale;
         return s;
