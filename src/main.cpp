@@ -12,6 +12,7 @@
 #include "render/renderer.h"
 #include "io/json.h"
 #include "scene/scene_loader.h"
+#include "spectral/rgb_to_spectrum.h"
 
 namespace {
 
@@ -97,6 +98,12 @@ int main(int argc, char** argv) {
         }
         if (opt.show_version) {
             std::printf("pathtracer %s\n", SPT_VERSION);
+            return 0;
+        }
+        if (opt.rgb_to_spectrum) {
+            const spt::SpectrumSource s = spt::rgb_to_spectrum(*opt.rgb_to_spectrum);
+            if (s.kind == spt::SpectrumSource::Kind::Constant) std::printf("constant %.17g\n", s.p[0]);
+            else std::printf("rgb_sigmoid %.17g %.17g %.17g\n", s.p[0], s.p[1], s.p[2]);
             return 0;
         }
         if (opt.list_scenes) {

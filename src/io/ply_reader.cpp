@@ -40,6 +40,19 @@ std::size_t type_size(ScalarType t) {
 
 bool is_integer_type(ScalarType t) { return t != ScalarType::Float32 && t != ScalarType::Float64; }
 
+/// Range of an integer type, as doubles (exact for every type here).
+std::pair<double, double> integer_range(ScalarType t) {
+    switch (t) {
+        case ScalarType::Int8: return {-128.0, 127.0};
+        case ScalarType::Uint8: return {0.0, 255.0};
+        case ScalarType::Int16: return {-32768.0, 32767.0};
+        case ScalarType::Uint16: return {0.0, 65535.0};
+        case ScalarType::Int32: return {-2147483648.0, 2147483647.0};
+        case ScalarType::Uint32: return {0.0, 4294967295.0};
+        default: return {0.0, 0.0};
+    }
+}
+
 struct Property {
     std::string name;
     ScalarType type = ScalarType::Float32;
@@ -141,8 +154,15 @@ private:
         if (ec != std::errc() || ptr != token.data() + token.size())
             fail_at(p, "'" + std::string(token.substr(0, 40)) + "' is not a number; expected " + what);
         if (!std::isfinite(v)) fail_at(p, std::string(what) + " is not finite; expected a finite number");
-        if (is_integer_type(t) && v != std::floor(v))
-            fail_at(p, std::string(what) + " " + std::string(token.substr(0, 40)) + " is not an integer; expected an integer");
+        if (is_integer_type(t)) {
+            if (v != std::floor(v))
+                fail_at(p, std::string(what) + " " + std::string(token.substr(0, 40)) + " is not an integer; expected an integer");
+            const auto [lo, hi] = integer_range(t);
+            if (v < lo || v > hi)
+                fail_at(p, std::string(what) + " " + std::string(token.substr(0, 40)) +
+                               " does not fit its declared integer type; expected a value from " +
+                               std::to_string(static_cast<long long>(lo)) + " to " + std::to_string(static_cast<long long>(hi)));
+        }
         return v;
     }
 
