@@ -93,3 +93,46 @@ TEST(MalformedCorpus, EachFileGivesOneLocatedErrorAndNoImage) {
 }
 
 }  // namespace
+
+namespace {
+
+/// Runs the program in `cwd`; returns the exit code (stderr to `err`).
+int run_in(const fs::path& cwd, const std::string& args, std::string& err) {
+    const fs::path log = fs::temp_directory_path() / ("spt_scene_cli_" + std::to_string(::getpid()) + ".err");
+    const std::string cmd = "cd " + quote(cwd.string()) + " && " + quote(SPT_PATHTRACER) + " " + args + " 2>" +
+                            quote(log.string()) + " >/dev/null </dev/null";
+    const int status = std::system(cmd.c_str());
+    err = read_all(log);
+    fs::remove(log);
+    return (status != -1 && WIFEXITED(status)) ? WEXITSTATUS(status) : -1;
+}
+
+TEST(SceneFiles, BuiltinNamesAndRelativePathsBothRender) {
+    const fs::path dir = fs::temp_directory_path() / ("spt_scene_files_" + std::to_string(::getpid()));
+    fs::remove_all(dir);
+    fs::create_directories(dir / "sub");
+    std::string err;
+    // A built-in scene from a folder without any scene files: it is compiled in.
+    EXPECT_EQ(run_in(dir, "prism --width 8 --height 6 --spp 1 --quiet -o p.png", err), 0) << err;
+    EXPECT_TRUE(fs::exists(dir / "p.png"));
+    // A scene file by relative path, whose mesh is found next to the scene file.
+    fs::copy_file(fs::path(SPT_TEST_DIR) / ".." / "scenes" / "prism.json", dir / "sub" / "my.json");
+    fs::copy_file(fs::path(SPT_TEST_DIR) / ".." / "scenes" / "prism.ply", dir / "sub" / "prism.ply");
+    fs::copy_file(fs::path(SPT_TEST_DIR) / ".." / "scenes" / "octahedron.ply", dir / "sub" / "octahedron.ply");
+    EXPECT_EQ(run_in(dir, "sub/my.json --width 8 --height 6 --spp 1 --quiet", err), 0) << err;
+    EXPECT_TRUE(fs::exists(dir / "my.png"));  // default output named after the file
+    // The same file without its mesh: a located error, exit 1.
+    fs::remove(dir / "sub" / "octahedron.ply");
+    EXPECT_EQ(run_in(dir, "sub/my.json --quiet -o q.png", err), 1);
+    EXPECT_EQ(err.rfind("sub/my.json:", 0), 0u) << err;
+    EXPECT_NE(err.find("cannot read mesh \"octahedron.ply\""), std::string::npos) << err;
+    EXPECT_FALSE(fs::exists(dir / "q.png"));
+    // A missing scene file is exit 1 with file:1:1; an unknown name is a usage error (2).
+    EXPECT_EQ(run_in(dir, "missing.json --quiet", err), 1);
+    EXPECT_EQ(err.rfind("missing.json:1:1: cannot read the scene file: no such file", 0), 0u) << err;
+    EXPECT_EQ(run_in(dir, "cornel --quiet", err), 2);
+    EXPECT_NE(err.find("cornell"), std::string::npos) << err;
+    fs::remove_all(dir);
+}
+
+}  // namespace

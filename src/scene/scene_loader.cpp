@@ -214,6 +214,9 @@ private:
         if (const JsonValue* w = v.find("width")) m_scene.width = integer_in(*w, "image width", 1, 65536);
         if (const JsonValue* h = v.find("height")) m_scene.height = integer_in(*h, "image height", 1, 65536);
         if (const JsonValue* s = v.find("spp")) m_scene.spp = integer_in(*s, "image spp", 1, 1000000);
+        if (double(m_scene.width) * m_scene.height > double(1 << 28))
+            fail(v.pos(), "image of " + std::to_string(m_scene.width) + "x" + std::to_string(m_scene.height) +
+                              " pixels is too large; expected at most 268435456 pixels");
     }
 
     // ---------------------------- Spectra ----------------------------
