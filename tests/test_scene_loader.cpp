@@ -4,6 +4,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <string>
 
 #include "cornell_reference.h"
@@ -140,6 +141,25 @@ TEST(SceneLoader, BuiltinNamesComeFromTheEmbeddedFiles) {
     for (const std::string& n : names) EXPECT_TRUE(load_builtin_scene(n, {}).has_value()) << n;
     EXPECT_FALSE(load_builtin_scene("no-such-scene", {}).has_value());
     EXPECT_EQ(load_builtin_scene("cornell", {})->spp, 128);
+}
+
+/// The complete example of scenes/README.md loads (with its mesh from scenes/).
+TEST(SceneLoader, ReadmeExampleLoads) {
+    const std::filesystem::path dir = std::filesystem::path(SPT_TEST_DIR) / ".." / "scenes";
+    std::ifstream in(dir / "README.md");
+    const std::string readme((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const std::size_t start = readme.find("```json\n");
+    ASSERT_NE(start, std::string::npos);
+    const std::size_t end = readme.find("```", start + 8);
+    const RelativeFileReader reader = [&](const std::string& rel, std::string& contents, std::string& display, std::string&) {
+        display = rel;
+        std::ifstream f(dir / rel);
+        contents.assign(std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>());
+        return static_cast<bool>(f);
+    };
+    const Scene s = load(readme.substr(start + 8, end - start - 8), reader);
+    EXPECT_EQ(s.spheres.size(), 1u);
+    EXPECT_EQ(s.triangles.size(), 8u + 2u);
 }
 
 /// scenes/cornell*.json against the C++ definitions of DESIGN.md: identical films.
