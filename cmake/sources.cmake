@@ -6,7 +6,9 @@ set(SPT_CORE_SOURCES
     src/io/embedded_files.cpp
     src/io/exr_writer.cpp
     src/io/image_writer.cpp
+    src/io/json.cpp
     src/io/pfm_writer.cpp
+    src/io/ply_reader.cpp
     src/io/png_writer.cpp
     src/io/ppm_writer.cpp
     src/render/bsdf.cpp
@@ -17,9 +19,11 @@ set(SPT_CORE_SOURCES
     src/scene/builtin_scenes.cpp
     src/scene/effects.cpp
     src/scene/scene.cpp
+    src/scene/scene_loader.cpp
     src/spectral/cie.cpp
     src/spectral/glass_catalog.cpp
     src/spectral/color_space.cpp
+    src/spectral/rgb_to_spectrum.cpp
     src/spectral/spectral_table.cpp
     src/spectral/spectrum.cpp
     src/spectral/spectrum_source.cpp

@@ -14,7 +14,9 @@
 #include "io/image_writer.h"
 #include "render/checkpoint.h"
 #include "render/renderer.h"
-#include "scene/builtin_scenes.h"
+#include "io/json.h"
+#include "scene/scene_loader.h"
+#include "spectral/rgb_to_spectrum.h"
 
 namespace {
 
@@ -57,13 +59,20 @@ void write_outputs(const spt::Options& opt, const std::vector<std::string>& outp
     spt::write_images(outputs, image, wo);
 }
 
+/// SCENE is a built-in name or a path to a scene file (anything ending in .json or naming an
+/// existing file); anything else is a usage error.
+std::optional<spt::Scene> load_scene(const spt::Options& opt) {
+    if (std::optional<spt::Scene> scene = spt::load_builtin_scene(opt.scene, opt.spectral)) return scene;
+    std::error_code ec;
+    if (opt.scene.ends_with(".json") || std::filesystem::is_regular_file(opt.scene, ec))
+        return spt::load_scene_file(opt.scene, opt.spectral);
+    std::string names;
+    for (const std::string& n : spt::builtin_scene_names()) names += (names.empty() ? "" : ", ") + n;
+    throw spt::UsageError("SCENE: expected a scene file (.json) or one of " + names + ", got '" + opt.scene + "'");
+}
+
 int run(const spt::Options& opt) {
-    std::optional<spt::Scene> scene = spt::make_builtin_scene(opt.scene, opt.spectral);
-    if (!scene) {
-        std::string names;
-        for (const std::string& n : spt::builtin_scene_names()) names += (names.empty() ? "" : ", ") + n;
-        throw spt::UsageError("SCENE: expected one of " + names + ", got '" + opt.scene + "'");
-    }
+    std::optional<spt::Scene> scene = load_scene(opt);
     spt::RenderSettings rs;
     rs.width = opt.width.value_or(scene->width);
     rs.height = opt.height.value_or(scene->height);
@@ -164,11 +173,20 @@ int main(int argc, char** argv) {
             std::printf("pathtracer %s\n", SPT_VERSION);
             return 0;
         }
+        if (opt.rgb_to_spectrum) {
+            const spt::SpectrumSource s = spt::rgb_to_spectrum(*opt.rgb_to_spectrum);
+            if (s.kind == spt::SpectrumSource::Kind::Constant) std::printf("constant %.17g\n", s.p[0]);
+            else std::printf("rgb_sigmoid %.17g %.17g %.17g\n", s.p[0], s.p[1], s.p[2]);
+            return 0;
+        }
         if (opt.list_scenes) {
             for (const std::string& n : spt::builtin_scene_names()) std::printf("%s\n", n.c_str());
             return 0;
         }
         return run(opt);
+    } catch (const spt::LocatedError& e) {  // a scene file: "file:line:column: message"
+        std::fprintf(stderr, "%s\n", e.what());
+        return kExitRuntimeError;
     } catch (const spt::UsageError& e) {
         std::fprintf(stderr, "pathtracer: %s\n", e.what());
         return kExitUsage;

@@ -36,8 +36,9 @@ double parse_real(const std::string& flag, const std::string& text, double lo, d
 std::string usage_text() {
     return R"(Usage: pathtracer [SCENE] [options]
 
-Spectral Monte Carlo path tracer. SCENE is a built-in scene name (default: cornell);
-see --list-scenes.
+Spectral Monte Carlo path tracer. SCENE is a built-in scene name (default: cornell; see
+--list-scenes) or a scene file (.json, format in scenes/README.md). An error in a scene file
+is reported as FILE:LINE:COLUMN: message, with exit status 1.
 
 Options:
   --spp N                paths per pixel (1 to 1000000; default: the scene's)
@@ -66,6 +67,10 @@ Options:
   --list-scenes          list the built-in scenes
   -h, --help             this text
   --version              the program version
+
+Diagnostics:
+  --rgb-to-spectrum R,G,B  print the spectrum fitted to a linear sRGB reflectance (each in
+                         [0, 1]) as 'rgb_sigmoid c0 c1 c2' or 'constant v', and exit
 )";
 }
 
@@ -93,6 +98,18 @@ Options parse_options(const std::vector<std::string>& args) {
             o.show_version = true;
         } else if (flag == "--list-scenes") {
             o.list_scenes = true;
+        } else if (flag == "--rgb-to-spectrum") {
+            const std::string v = next_value();
+            std::array<double, 3> rgb{};
+            std::size_t start = 0;
+            for (int k = 0; k < 3; ++k) {
+                const std::size_t comma = k < 2 ? v.find(',', start) : v.size();
+                if (comma == std::string::npos)
+                    throw UsageError(flag + ": expected R,G,B with each in [0, 1], got '" + v + "'");
+                rgb[k] = parse_real(flag, v.substr(start, comma - start), 0, 1, "R,G,B with each in [0, 1]");
+                start = comma + 1;
+            }
+            o.rgb_to_spectrum = rgb;
         } else if (flag == "--quiet") {
             o.quiet = true;
         } else if (flag == "--spp") {

@@ -1,5 +1,6 @@
 // Command-line options of the pathtracer program and their parser.
 #pragma once
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <stdexcept>
@@ -34,6 +35,9 @@ struct Options {
     bool show_help = false;
     bool show_version = false;
     bool list_scenes = false;
+    /// --rgb-to-spectrum R,G,B: print the fitted spectrum of an RGB reflectance and exit
+    /// (a diagnostic hook for validation/test_rgb_fit.py).
+    std::optional<std::array<double, 3>> rgb_to_spectrum;
 };
 
 /// Parses argv (without the program name). Throws UsageError.

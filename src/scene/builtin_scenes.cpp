@@ -1,79 +1,12 @@
-// The two canonical Cornell boxes of DESIGN.md, exactly as specified there (other renderers
-// are compared on them: do not change a value without changing DESIGN.md).
+// Built-in scenes are the scene files in scenes/, compiled into the program.
 #include "scene/builtin_scenes.h"
+
+#include "scene/scene_loader.h"
 
 namespace spt {
 
-namespace {
-
-Material diffuse(std::string name, const Spectrum& kd) {
-    Material m;
-    m.name = std::move(name);
-    m.kd = kd;
-    return m;
-}
-
-/// Shared by both boxes: walls, the plastic and the glass sphere, and the camera.
-Scene make_cornell_common(std::string name, SpectralResolution res, bool ceiling_light) {
-    using Src = SpectrumSource;
-    const Spectrum gray(Src::constant(0.75), res);
-    const Spectrum red(Src::sigmoid(600, 12, 0.65, 0.05), res);
-    const Spectrum green(Src::gaussian(540, 40, 0.55, 0.05), res);
-    const Spectrum blue(Src::gaussian(460, 35, 0.75, 0.05), res);
-
-    Scene scene;
-    scene.name = std::move(name);
-    scene.camera = {{0, 0, 3.5f}, {0, 0, 0}, {0, 1, 0}, 40.f};
-    const int m_red = scene.add_material(diffuse("red", red));
-    const int m_green = scene.add_material(diffuse("green", green));
-    const int m_gray = scene.add_material(diffuse("gray", gray));
-
-    int m_ceiling = m_gray;
-    if (ceiling_light) {
-        Material light;
-        light.name = "light";
-        light.emission = Spectrum(Src::blackbody(6500, 4.0, 560), res);
-        m_ceiling = scene.add_material(light);
-    }
-    Material plastic = diffuse("blue plastic", blue);
-    plastic.ks = Spectrum(Src::constant(0.15), res);
-    const int m_plastic = scene.add_material(plastic);
-    Material glass;
-    glass.name = "glass";
-    glass.kt = Spectrum(Src::constant(1.0), res);
-    glass.eta = Spectrum(Src::constant(1.5), res);
-    const int m_glass = scene.add_material(glass);
-
-    // Planes as dot(n, p) = offset with n facing into the box.
-    scene.planes = {
-        {{1, 0, 0}, -1.f, m_red},       // left wall, x = -1
-        {{-1, 0, 0}, -1.f, m_green},    // right wall, x = +1
-        {{0, 1, 0}, -1.f, m_gray},      // floor, y = -1
-        {{0, 0, 1}, -1.f, m_gray},      // back wall, z = -1
-        {{0, -1, 0}, -1.f, m_ceiling},  // ceiling, y = +1
-    };
-    scene.spheres = {
-        {{-0.45f, -0.6f, -0.3f}, 0.4f, m_plastic},
-        {{0.45f, -0.6f, 0.25f}, 0.4f, m_glass},
-    };
-    return scene;
-}
-
-}  // namespace
-
-std::vector<std::string> builtin_scene_names() { return {"cornell", "cornell-point"}; }
-
 std::optional<Scene> make_builtin_scene(const std::string& name, SpectralResolution res) {
-    std::optional<Scene> scene;
-    if (name == "cornell") {
-        scene = make_cornell_common(name, res, true);
-    } else if (name == "cornell-point") {
-        scene = make_cornell_common(name, res, false);
-        scene->point_lights.push_back(
-            {{0, 0.5f, 0}, Spectrum(SpectrumSource::blackbody(6500, 3.0, 560), res)});
-    }
-    if (scene) scene->finalize();
-    return scene;
+    return load_builtin_scene(name, res);
 }
 
 }  // namespace spt

@@ -34,27 +34,30 @@ int Scene::add_material(Material m) {
     return static_cast<int>(materials.size()) - 1;
 }
 
+void validate_material(const Material& m) {
+    const float big = 1e30f;
+    const std::string who = "material '" + m.name + "'";
+    check_spectrum(m.kd, who + " kd", 0.f, 1.f);
+    check_spectrum(m.ks, who + " ks", 0.f, 1.f);
+    check_spectrum(m.kt, who + " kt", 0.f, 1.f);
+    check_spectrum(m.emission, who + " emission", 0.f, big);
+    if (m.has_transmission()) check_spectrum(m.eta, who + " index of refraction", 1.f, 100.f);
+    // Energy conservation at every wavelength, for both what the renderer samples (bins)
+    // and the exact source (so a scene is valid whatever --spectral-bins says).
+    for (float l = kLambdaMin; l <= kLambdaMax; l += 1.f) {
+        const double binned = double(m.kd.eval(l)) + m.ks.eval(l) + m.kt.eval(l);
+        const double exact = m.kd.source().eval(l) + m.ks.source().eval(l) + m.kt.source().eval(l);
+        if (binned <= 1.0 + 1e-6 && exact <= 1.0 + 1e-6) continue;
+        std::ostringstream msg;
+        msg << who << ": kd + ks + kt = " << std::max(binned, exact) << " at " << l
+            << " nm; expected at most 1 (a surface cannot reflect more than it receives)";
+        throw SceneError(msg.str());
+    }
+}
+
 void Scene::finalize() {
     const float big = 1e30f;
-    for (const Material& m : materials) {
-        const std::string who = "material '" + m.name + "'";
-        check_spectrum(m.kd, who + " kd", 0.f, 1.f);
-        check_spectrum(m.ks, who + " ks", 0.f, 1.f);
-        check_spectrum(m.kt, who + " kt", 0.f, 1.f);
-        check_spectrum(m.emission, who + " emission", 0.f, big);
-        if (m.has_transmission()) check_spectrum(m.eta, who + " index of refraction", 1.f, 100.f);
-        // Energy conservation at every wavelength, for both what the renderer samples (bins)
-        // and the exact source (so a scene is valid whatever --spectral-bins says).
-        for (float l = kLambdaMin; l <= kLambdaMax; l += 1.f) {
-            const double binned = double(m.kd.eval(l)) + m.ks.eval(l) + m.kt.eval(l);
-            const double exact = m.kd.source().eval(l) + m.ks.source().eval(l) + m.kt.source().eval(l);
-            if (binned <= 1.0 + 1e-6 && exact <= 1.0 + 1e-6) continue;
-            std::ostringstream msg;
-            msg << who << ": kd + ks + kt = " << std::max(binned, exact) << " at " << l
-                << " nm; expected at most 1 (a surface cannot reflect more than it receives)";
-            throw SceneError(msg.str());
-        }
-    }
+    for (const Material& m : materials) validate_material(m);
     auto check_material_index = [&](int index, const std::string& who) {
         require(index >= 0 && index < static_cast<int>(materials.size()),
                 who + " refers to a material that does not exist");
@@ -68,6 +71,11 @@ void Scene::finalize() {
         require(finite(p.normal) && std::isfinite(p.offset), "plane must be finite");
         require(std::fabs(length(p.normal) - 1.f) < 1e-4f, "plane normal must be unit length");
         check_material_index(p.material, "a plane");
+    }
+    for (const Triangle& t : triangles) {
+        require(finite(t.p0) && finite(t.p1) && finite(t.p2), "triangle vertices must be finite");
+        require(!t.is_degenerate(), "triangle has zero area (collinear or repeated vertices)");
+        check_material_index(t.material, "a triangle");
     }
     for (const PointLight& l : point_lights) {
         require(finite(l.position), "point light position must be finite");
@@ -108,6 +116,7 @@ void Scene::finalize() {
     };
     for (const Sphere& s : spheres) analyse(s.material);
     for (const Plane& p : planes) analyse(p.material);
+    for (const Triangle& t : triangles) analyse(t.material);
 }
 
 }  // namespace spt

@@ -7,6 +7,7 @@
 
 #include "geometry/plane.h"
 #include "geometry/sphere.h"
+#include "geometry/triangle.h"
 #include "render/camera.h"
 #include "render/material.h"
 #include "render/point_light.h"
@@ -19,6 +20,11 @@ struct SceneError : std::runtime_error {
     using std::runtime_error::runtime_error;
 };
 
+/// Checks one material: kd, ks, kt in [0, 1] with kd + ks + kt ≤ 1 at every wavelength, a
+/// finite non-negative emission, an index of refraction in [1, 100] where it is used.
+/// Throws SceneError naming the defect.
+void validate_material(const Material& m);
+
 struct Scene {
     std::string name;
     CameraSpec camera;
@@ -27,6 +33,9 @@ struct Scene {
     std::vector<Material> materials;
     std::vector<Sphere> spheres;
     std::vector<Plane> planes;
+    /// Triangles of meshes, quads and single triangles, in one flat array (a BVH over it
+    /// comes later; until then they are tested one by one).
+    std::vector<Triangle> triangles;
     std::vector<PointLight> point_lights;
     Spectrum background;  ///< radiance of rays that escape (zero: black)
 
@@ -54,6 +63,11 @@ struct Scene {
             if (const double t = planes[i].intersect_t(ray); t < t_best) t_best = t, best_plane = i;
         for (const Sphere& sphere : spheres)
             if (const double t = sphere.intersect_t(ray); t < t_best) t_best = t, best_sphere = &sphere;
+        const Triangle* best_triangle = nullptr;
+        std::optional<TriangleIntersection> best_ti;
+        for (const Triangle& tri : triangles)
+            if (auto ti = tri.intersect(ray, t_best)) t_best = ti->t, best_triangle = &tri, best_ti = ti;
+        if (best_triangle) return best_triangle->make_hit(*best_ti);
         if (best_sphere) return best_sphere->make_hit(ray, t_best);
         if (best_plane >= 0) return planes[best_plane].make_hit(ray, t_best);
         return std::nullopt;
@@ -70,6 +84,8 @@ struct Scene {
             if (planes[i].intersect_t(ray) < ray.t_max) return true;
         for (const Sphere& sphere : spheres)
             if (sphere.intersect_t(ray) < ray.t_max) return true;
+        for (const Triangle& tri : triangles)
+            if (tri.intersect(ray, ray.t_max)) return true;
         return false;
     }
 

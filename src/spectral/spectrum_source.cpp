@@ -50,10 +50,10 @@ SpectrumSource SpectrumSource::sellmeier(double b1, double b2, double b3, double
     s.p[0] = b1, s.p[1] = b2, s.p[2] = b3, s.p[3] = c1, s.p[4] = c2, s.p[5] = c3;
     return s;
 }
-SpectrumSource SpectrumSource::rgb_sigmoid(double c0, double c1, double c2) {
+SpectrumSource SpectrumSource::rgb_sigmoid(double c0, double c1, double c2, double scale) {
     SpectrumSource s;
     s.kind = Kind::RgbSigmoid;
-    s.p[0] = c0, s.p[1] = c1, s.p[2] = c2;
+    s.p[0] = c0, s.p[1] = c1, s.p[2] = c2, s.p[3] = scale;
     return s;
 }
 
@@ -100,7 +100,7 @@ double SpectrumSource::eval(double lambda) const {
             // coefficients of order one (Jakob & Hanika 2019 use λ directly).
             const double t = (lambda - 360.0) / 470.0;
             const double x = (p[0] * t + p[1]) * t + p[2];
-            return 0.5 + x / (2.0 * std::sqrt(1.0 + x * x));
+            return p[3] * (0.5 + x / (2.0 * std::sqrt(1.0 + x * x)));
         }
     }
     return 0.0;

@@ -16,7 +16,7 @@ struct SpectrumSource {
         PiecewiseLinear,  ///< linear between table points, end values held outside
         Cauchy,           ///< A + B/λ² + C/λ⁴, λ in µm
         Sellmeier,        ///< sqrt(1 + Σ Bᵢλ²/(λ² − Cᵢ)), λ in µm, Cᵢ in µm²
-        RgbSigmoid,       ///< 1/(1 + exp(−(c0·t² + c1·t + c2))) style smooth reflectance, see rgb_to_spectrum
+        RgbSigmoid,       ///< scale·s(c0·t² + c1·t + c2), s(x) = ½ + x/(2√(1+x²)), t = (λ−360)/470; see rgb_to_spectrum
     };
     Kind kind = Kind::Constant;
     double p[6] = {0, 0, 0, 0, 0, 0};                ///< parameters, meaning set by kind
@@ -29,7 +29,7 @@ struct SpectrumSource {
     static SpectrumSource piecewise_linear(std::vector<std::pair<double, double>> points);
     static SpectrumSource cauchy(double a, double b_um2, double c_um4 = 0);
     static SpectrumSource sellmeier(double b1, double b2, double b3, double c1, double c2, double c3);
-    static SpectrumSource rgb_sigmoid(double c0, double c1, double c2);
+    static SpectrumSource rgb_sigmoid(double c0, double c1, double c2, double scale = 1);
 
     /// Exact value at λ (nm).
     double eval(double lambda_nm) const;

@@ -1,0 +1,49 @@
+// libFuzzer entry points for the scene readers (built with -DSPT_FUZZ=ON and clang, under
+// AddressSanitizer and UndefinedBehaviorSanitizer; see tests/fuzz/README.md).
+//   fuzz_scene: bytes → JSON reader → scene loader (a mesh named "a.ply" resolves to a small
+//               valid PLY, any other file name fails to open).
+//   fuzz_ply:   bytes → PLY reader.
+// The only exception allowed to escape is LocatedError (the clean "file:line:column" error);
+// anything else, and any crash, leak or undefined behaviour, is a finding.
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <string_view>
+
+#include "io/json.h"
+#include "io/ply_reader.h"
+#include "scene/scene_loader.h"
+
+#ifndef SPT_FUZZ_PLY
+namespace {
+
+const char* kPly =
+    "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+    "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+
+}  // namespace
+#endif
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+    const std::string_view bytes(reinterpret_cast<const char*>(data), size);
+    try {
+#ifdef SPT_FUZZ_PLY
+        spt::parse_ply(bytes, "fuzz.ply");
+#else
+        const spt::RelativeFileReader reader = [](const std::string& rel, std::string& contents,
+                                                  std::string& display, std::string& why) {
+            display = rel;
+            if (rel != "a.ply") {
+                why = "no such file";
+                return false;
+            }
+            contents = kPly;
+            return true;
+        };
+        // Few bins keep each run fast; the checks do not depend on the resolution.
+        spt::load_scene_text(bytes, "fuzz.json", "fuzz", spt::SpectralResolution{4}, reader);
+#endif
+    } catch (const spt::LocatedError&) {
+    }
+    return 0;
+}

@@ -1,0 +1,188 @@
+// Scene files: every spectrum form and shape, the checks with their file:line:column
+// messages, and the Cornell boxes as files rendering bit-identically to their C++ definitions.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+
+#include "cornell_reference.h"
+#include "scene/scene_loader.h"
+#include "spectral/rgb_to_spectrum.h"
+#include "test_scenes.h"
+
+namespace spt {
+namespace {
+
+const RelativeFileReader kNoFiles = [](const std::string&, std::string&, std::string&, std::string& why) {
+    why = "no files in this test";
+    return false;
+};
+
+/// A scene with a camera, the given materials and shapes (JSON fragments).
+std::string scene_json(const std::string& materials, const std::string& shapes, const std::string& extra = "") {
+    return "{\"camera\": {\"position\": [0, 0, 5], \"look_at\": [0, 0, 0]},\n\"materials\": {" + materials +
+           "},\n\"shapes\": [" + shapes + "]" + extra + "}";
+}
+
+Scene load(const std::string& text, const RelativeFileReader& reader = kNoFiles) {
+    return load_scene_text(text, "s.json", "s", SpectralResolution{SpectralResolution::kExact}, reader);
+}
+
+std::string error_of(const std::string& text, const RelativeFileReader& reader = kNoFiles) {
+    try {
+        load(text, reader);
+    } catch (const LocatedError& e) {
+        return e.what();
+    }
+    return "(no error)";
+}
+
+double kd_at(const std::string& spectrum, double lambda) {
+    const Scene s = load(scene_json("\"m\": {\"kd\": " + spectrum + "}", "{\"type\": \"sphere\", \"center\": [0,0,0], \"radius\": 1, \"material\": \"m\"}"));
+    return s.materials[0].kd.source().eval(lambda);
+}
+double emission_at(const std::string& spectrum, double lambda) {
+    const Scene s = load(scene_json("", "{\"type\": \"sphere\", \"center\": [0,0,0], \"radius\": 1, \"emission\": " + spectrum + "}"));
+    return s.materials[0].emission.source().eval(lambda);
+}
+
+TEST(SceneLoader, EverySpectrumForm) {
+    EXPECT_DOUBLE_EQ(kd_at("0.25", 500), 0.25);
+    EXPECT_DOUBLE_EQ(kd_at("{\"type\": \"constant\", \"value\": 0.5}", 700), 0.5);
+    EXPECT_DOUBLE_EQ(kd_at("{\"type\": \"gaussian\", \"center_nm\": 540, \"width_nm\": 40, \"scale\": 0.55, \"offset\": 0.05}", 540), 0.6);
+    EXPECT_DOUBLE_EQ(kd_at("{\"type\": \"sigmoid\", \"center_nm\": 600, \"width_nm\": 12, \"scale\": 0.65, \"offset\": 0.05}", 600), 0.375);
+    EXPECT_DOUBLE_EQ(kd_at("{\"type\": \"table\", \"points\": [[400, 0.2], [600, 0.6]]}", 500), 0.4);
+    EXPECT_NEAR(kd_at("{\"type\": \"colorchecker\", \"patch\": \"white_9_5_05_d\"}", 550), 0.9, 0.05);
+    EXPECT_NEAR(emission_at("{\"type\": \"blackbody\", \"temperature_k\": 6500, \"scale\": 4}", 560), 4.0, 1e-12);
+    EXPECT_NEAR(emission_at("{\"type\": \"illuminant\", \"name\": \"D65\"}", 560), 1.0, 1e-12);
+    EXPECT_NEAR(emission_at("{\"type\": \"illuminant\", \"name\": \"A\", \"scale\": 2}", 560), 2.0, 1e-12);
+    // RGB: the fitted spectrum, in both forms, and scaled for emission.
+    const SpectrumSource fit = rgb_to_spectrum({0.8, 0.2, 0.1});
+    EXPECT_DOUBLE_EQ(kd_at("[0.8, 0.2, 0.1]", 650), fit.eval(650));
+    EXPECT_DOUBLE_EQ(kd_at("{\"type\": \"rgb\", \"value\": [0.8, 0.2, 0.1]}", 450), fit.eval(450));
+    EXPECT_DOUBLE_EQ(emission_at("{\"type\": \"rgb\", \"value\": [0.8, 0.2, 0.1], \"scale\": 10}", 650), 10 * fit.eval(650));
+}
+
+TEST(SceneLoader, IndexOfRefractionForms) {
+    auto eta = [](const std::string& ior, double lambda) {
+        const Scene s = load(scene_json("\"g\": {\"kt\": 1, \"ior\": " + ior + "}",
+                                        "{\"type\": \"sphere\", \"center\": [0,0,0], \"radius\": 1, \"material\": \"g\"}"));
+        return s.materials[0].eta.source().eval(lambda);
+    };
+    EXPECT_DOUBLE_EQ(eta("1.5", 500), 1.5);
+    EXPECT_NEAR(eta("{\"type\": \"cauchy\", \"a\": 1.5046, \"b_um2\": 0.0042}", 587.6), 1.51676, 1e-5);
+    EXPECT_NEAR(eta("{\"type\": \"sellmeier\", \"b\": [1.03961212, 0.231792344, 1.01046945], \"c_um2\": [0.00600069867, 0.0200179144, 103.560653]}", 587.6),
+                1.51680, 1e-5);
+}
+
+TEST(SceneLoader, EveryShapeAndLight) {
+    const std::string ply = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+                            "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+    const RelativeFileReader reader = [&](const std::string& rel, std::string& contents, std::string& display, std::string&) {
+        display = rel;
+        contents = ply;
+        return rel == "tri.ply";
+    };
+    const Scene s = load(scene_json(
+        "\"m\": {\"kd\": 0.5}",
+        "{\"type\": \"sphere\", \"center\": [0, 1, 0], \"radius\": 0.5, \"material\": \"m\"},"
+        "{\"type\": \"plane\", \"normal\": [0, 2, 0], \"point\": [0, -1, 0], \"material\": \"m\"},"
+        "{\"type\": \"quad\", \"origin\": [0, 0, 0], \"edge1\": [1, 0, 0], \"edge2\": [0, 1, 0], \"emission\": 3,"
+        " \"transform\": {\"scale\": 2, \"rotate\": {\"axis\": [0, 0, 1], \"degrees\": 90}, \"translate\": [0, 0, 1]}},"
+        "{\"type\": \"triangle\", \"vertices\": [[0, 0, 0], [1, 0, 0], [0, 1, 0]], \"material\": \"m\"},"
+        "{\"type\": \"mesh\", \"file\": \"tri.ply\", \"material\": \"m\", \"transform\": {\"translate\": [5, 0, 0]}}",
+        ", \"lights\": [{\"type\": \"point\", \"position\": [0, 2, 0], \"intensity\": 10}], \"background\": 0.1,"
+        " \"image\": {\"width\": 64, \"height\": 32, \"spp\": 8}"), reader);
+    ASSERT_EQ(s.spheres.size(), 1u);
+    ASSERT_EQ(s.planes.size(), 1u);
+    EXPECT_EQ(s.planes[0].normal, Vec3(0, 1, 0));
+    EXPECT_EQ(s.planes[0].offset, -1.f);
+    ASSERT_EQ(s.triangles.size(), 4u);  // quad (2) + triangle + mesh
+    // Quad corner (1, 0, 0): scaled to (2, 0, 0), rotated to (0, 2, 0), translated to (0, 2, 1).
+    EXPECT_NEAR(s.triangles[0].p1.x, 0, 1e-6);
+    EXPECT_NEAR(s.triangles[0].p1.y, 2, 1e-6);
+    EXPECT_NEAR(s.triangles[0].p1.z, 1, 1e-6);
+    EXPECT_EQ(s.triangles[3].p1, Vec3(6, 0, 0));
+    EXPECT_TRUE(s.materials[s.triangles[0].material].is_emissive());
+    ASSERT_EQ(s.point_lights.size(), 1u);
+    EXPECT_EQ(s.width, 64);
+    EXPECT_EQ(s.height, 32);
+    EXPECT_EQ(s.spp, 8);
+    EXPECT_TRUE(s.effects.background);
+    EXPECT_TRUE(s.effects.point_lights);
+    EXPECT_TRUE(s.effects.emissive_surfaces);
+}
+
+TEST(SceneLoader, ErrorsNameFileLineColumnAndSuggest) {
+    const std::string sphere = "{\"type\": \"sphere\", \"center\": [0,0,0], \"radius\": 1, \"material\": \"m\"}";
+    EXPECT_EQ(error_of(scene_json("\"m\": {\"kd\": 0.5}", "{\"type\": \"sphere\", \"center\": [0,0,0], \"radus\": 1, \"material\": \"m\"}")),
+              "s.json:3:50: unknown key \"radus\" in sphere (shape 0). Did you mean \"radius\"? Expected one of: type, center, radius, material, emission");
+    EXPECT_NE(error_of(scene_json("\"m\": {\"kd\": 0.5}", "{\"type\": \"sphere\", \"center\": [0,0,0], \"radius\": -1, \"material\": \"m\"}"))
+                  .find("s.json:3:60: sphere (shape 0) radius is -1; expected a number in (0, 1e+15]"), std::string::npos);
+    EXPECT_NE(error_of(scene_json("\"m\": {\"kd\": 0.7, \"ks\": 0.4}", sphere)).find("kd + ks + kt = 1.1"), std::string::npos);
+    EXPECT_NE(error_of(scene_json("\"m\": {\"kd\": 0.5}", "{\"type\": \"sphere\", \"center\": [0,0,0], \"radius\": 1, \"material\": \"n\"}"))
+                  .find("unknown material \"n\". Did you mean \"m\"?"), std::string::npos);
+    EXPECT_NE(error_of(scene_json("\"m\": {\"kt\": 1, \"ior\": 0.9}", sphere)).find("expected an index of refraction in [1, 100]"), std::string::npos);
+    EXPECT_NE(error_of(scene_json("\"m\": {\"kd\": [1.5, 0, 0]}", sphere)).find("out of range"), std::string::npos);
+    EXPECT_NE(error_of(scene_json("\"m\": {\"kd\": {\"type\": \"gausian\"}}", sphere)).find("Did you mean \"gaussian\"?"), std::string::npos);
+    EXPECT_NE(error_of(scene_json("\"m\": {\"kd\": 0.5}", "{\"type\": \"plane\", \"normal\": [0,0,0], \"point\": [0,0,0], \"material\": \"m\"}"))
+                  .find("zero vector"), std::string::npos);
+    EXPECT_NE(error_of(scene_json("\"m\": {\"kd\": 0.5}", "{\"type\": \"mesh\", \"file\": \"nope.ply\", \"material\": \"m\"}"))
+                  .find("cannot read mesh \"nope.ply\""), std::string::npos);
+}
+
+TEST(SceneLoader, BuiltinNamesComeFromTheEmbeddedFiles) {
+    const auto names = builtin_scene_names();
+    ASSERT_GE(names.size(), 2u);
+    EXPECT_EQ(names[0], "cornell");
+    EXPECT_NE(std::find(names.begin(), names.end(), "cornell-point"), names.end());
+    for (const std::string& n : names) EXPECT_TRUE(load_builtin_scene(n, {}).has_value()) << n;
+    EXPECT_FALSE(load_builtin_scene("no-such-scene", {}).has_value());
+    EXPECT_EQ(load_builtin_scene("cornell", {})->spp, 128);
+}
+
+/// The complete example of scenes/README.md loads (with its mesh from scenes/).
+TEST(SceneLoader, ReadmeExampleLoads) {
+    const std::filesystem::path dir = std::filesystem::path(SPT_TEST_DIR) / ".." / "scenes";
+    std::ifstream in(dir / "README.md");
+    const std::string readme((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const std::size_t start = readme.find("```json\n");
+    ASSERT_NE(start, std::string::npos);
+    const std::size_t end = readme.find("```", start + 8);
+    const RelativeFileReader reader = [&](const std::string& rel, std::string& contents, std::string& display, std::string&) {
+        display = rel;
+        std::ifstream f(dir / rel);
+        contents.assign(std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>());
+        return static_cast<bool>(f);
+    };
+    const Scene s = load(readme.substr(start + 8, end - start - 8), reader);
+    EXPECT_EQ(s.spheres.size(), 1u);
+    EXPECT_EQ(s.triangles.size(), 8u + 2u);
+}
+
+/// scenes/cornell*.json against the C++ definitions of DESIGN.md: identical films.
+TEST(SceneLoader, CornellFilesRenderBitIdenticallyToTheCppDefinitions) {
+    for (const char* name : {"cornell", "cornell-point"})
+        for (int bins : {SpectralResolution::kDefaultBins, SpectralResolution::kExact}) {
+            const SpectralResolution res{bins};
+            const Scene from_file = *load_builtin_scene(name, res);
+            const Scene reference = *test::make_cornell_reference(name, res);
+            EXPECT_EQ(from_file.camera.position, reference.camera.position);
+            EXPECT_EQ(from_file.camera.vfov_degrees, reference.camera.vfov_degrees);
+            const RenderSettings settings = test::small_settings(24, 24, 4, 7, 2);
+            const auto a = test::render_film(from_file, settings);
+            const auto b = test::render_film(reference, settings);
+            for (int y = 0; y < 24; ++y)
+                for (int x = 0; x < 24; ++x) {
+                    const Xyz p = a->pixel_xyz(x, y), q = b->pixel_xyz(x, y);
+                    ASSERT_EQ(p.x, q.x) << name << " " << x << "," << y;
+                    ASSERT_EQ(p.y, q.y);
+                    ASSERT_EQ(p.z, q.z);
+                }
+        }
+}
+
+}  // namespace
+}  // namespace spt
