@@ -2,6 +2,8 @@
 // (wrong type, unknown key, out-of-range number...) becomes one LocatedError
 // "file:line:column: what is wrong; expected what", with a "Did you mean" for near misses.
 #pragma once
+#include <algorithm>
+#include <cmath>
 #include <initializer_list>
 #include <string>
 #include <string_view>
@@ -29,6 +31,7 @@ class JsonChecker {
 public:
     explicit JsonChecker(const std::string& origin) : m_origin(origin) {}
 
+    /// Throws the located error "origin:line:column: message".
     [[noreturn]] void fail(TextPos pos, const std::string& message) const {
         throw LocatedError(m_origin, pos, message);
     }
@@ -41,6 +44,7 @@ public:
         return v;
     }
 
+    /// Unknown keys are errors (with the closest allowed key as a suggestion).
     void check_keys(const JsonValue& obj, const std::string& what, std::initializer_list<const char*> allowed) const {
         std::vector<std::string> names(allowed.begin(), allowed.end());
         for (std::size_t i = 0; i < obj.members().size(); ++i) {
@@ -51,6 +55,7 @@ public:
         }
     }
 
+    /// The member `key` of `obj`, which must be present.
     const JsonValue& required(const JsonValue& obj, const char* key, const std::string& what) const {
         const JsonValue* v = obj.find(key);
         if (!v) fail(obj.pos(), what + " has no \"" + key + "\"; expected one");
@@ -94,6 +99,7 @@ public:
         return out;
     }
 
+    /// [x, y, z] with each |coordinate| ≤ kMaxSceneCoordinate.
     Vec3 point(const JsonValue& v, const std::string& what) const {
         const std::vector<double> c = numbers(v, what, 3);
         for (double x : c)
@@ -101,6 +107,7 @@ public:
                 fail(v.pos(), what + " has a coordinate of " + number_text(x) + "; expected magnitudes up to 1e15");
         return {static_cast<float>(c[0]), static_cast<float>(c[1]), static_cast<float>(c[2])};
     }
+    /// A point that is not the zero vector (not normalised).
     Vec3 direction(const JsonValue& v, const std::string& what) const {
         const Vec3 d = point(v, what);
         const double len = std::sqrt(double(d.x) * d.x + double(d.y) * d.y + double(d.z) * d.z);
