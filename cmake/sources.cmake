@@ -18,8 +18,10 @@ set(SPT_CORE_SOURCES
     src/render/renderer.cpp
     src/scene/builtin_scenes.cpp
     src/scene/effects.cpp
+    src/scene/json_checker.cpp
     src/scene/scene.cpp
     src/scene/scene_loader.cpp
+    src/scene/spectrum_parser.cpp
     src/spectral/cie.cpp
     src/spectral/glass_catalog.cpp
     src/spectral/color_space.cpp

@@ -15,68 +15,19 @@
 
 #include "io/embedded_files.h"
 #include "io/ply_reader.h"
-#include "spectral/rgb_to_spectrum.h"
-#include "spectral/spectral_table.h"
+#include "scene/json_checker.h"
+#include "scene/spectrum_parser.h"
 
 namespace spt {
 
 namespace {
 
-/// Largest coordinate or length accepted in a scene: far beyond any sensible scene, small
-/// enough that products of coordinates stay finite in float.
-constexpr double kMaxCoordinate = 1e15;
-
-std::size_t edit_distance(std::string_view a, std::string_view b) {
-    std::vector<std::size_t> row(b.size() + 1);
-    for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
-    for (std::size_t i = 1; i <= a.size(); ++i) {
-        std::size_t diagonal = row[0];
-        row[0] = i;
-        for (std::size_t j = 1; j <= b.size(); ++j) {
-            const std::size_t above = row[j];
-            row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
-            diagonal = above;
-        }
-    }
-    return row[b.size()];
-}
-
-/// " Did you mean "x"?" when a candidate is close to `word`, else "".
-std::string suggestion(std::string_view word, const std::vector<std::string>& candidates) {
-    std::string best;
-    std::size_t best_distance = std::max<std::size_t>(2, word.size() / 2) + 1;
-    for (const std::string& c : candidates) {
-        const std::size_t d = edit_distance(word.substr(0, 200), c);
-        if (d < best_distance) best_distance = d, best = c;
-    }
-    return best.empty() ? "" : " Did you mean \"" + best + "\"?";
-}
-
-std::string join(const std::vector<std::string>& words) {
-    std::string out;
-    for (const std::string& w : words) out += (out.empty() ? "" : ", ") + w;
-    return out;
-}
-
-/// Quoted, shortened text of a user string for messages.
-std::string quote_text(std::string_view s) {
-    std::string out = "\"";
-    for (char c : s.substr(0, 60)) out += (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) ? '?' : c;
-    return out + (s.size() > 60 ? "...\"" : "\"");
-}
-
-std::string number_text(double v) {
-    std::ostringstream s;
-    s << v;
-    return s.str();
-}
-
-enum class SpectrumUse { Reflectance, Emission, Index };
-
-class Loader {
+/// Reads the scene's sections in a fixed order (camera, image, background, materials,
+/// shapes, lights), so materials may be referred to before they appear in the file.
+class Loader : public JsonChecker {
 public:
     Loader(const std::string& origin, SpectralResolution resolution, const RelativeFileReader& read_relative)
-        : m_origin(origin), m_resolution(resolution), m_read_relative(read_relative) {}
+        : JsonChecker(origin), m_spectra(origin, resolution), m_read_relative(read_relative) {}
 
     Scene load(const JsonValue& root, const std::string& name) {
         m_scene.name = name;
@@ -104,91 +55,13 @@ public:
     }
 
 private:
-    const std::string& m_origin;
-    SpectralResolution m_resolution;
+    SpectrumParser m_spectra;
     const RelativeFileReader& m_read_relative;
     Scene m_scene;
     std::map<std::string, int> m_material_index;
 
-    // ---------------------------- Generic checks ----------------------------
-
-    [[noreturn]] void fail(TextPos pos, const std::string& message) const {
-        throw LocatedError(m_origin, pos, message);
-    }
-    [[noreturn]] void wrong_type(const JsonValue& v, const std::string& what, const std::string& expected) const {
-        fail(v.pos(), what + " is " + JsonValue::type_name(v.type()) + "; expected " + expected);
-    }
-
-    const JsonValue& object(const JsonValue& v, const std::string& what) const {
-        if (!v.is_object()) wrong_type(v, what, "an object");
-        return v;
-    }
-
-    void check_keys(const JsonValue& obj, const std::string& what, std::initializer_list<const char*> allowed) const {
-        std::vector<std::string> names(allowed.begin(), allowed.end());
-        for (std::size_t i = 0; i < obj.members().size(); ++i) {
-            const std::string& key = obj.members()[i].first;
-            if (std::find(names.begin(), names.end(), key) != names.end()) continue;
-            fail(obj.key_pos(i), "unknown key " + quote_text(key) + " in " + what + "." + suggestion(key, names) +
-                                  " Expected one of: " + join(names));
-        }
-    }
-
-    const JsonValue& required(const JsonValue& obj, const char* key, const std::string& what) const {
-        const JsonValue* v = obj.find(key);
-        if (!v) fail(obj.pos(), what + " has no \"" + key + "\"; expected one");
-        return *v;
-    }
-
-    double number(const JsonValue& v, const std::string& what) const {
-        if (!v.is_number()) wrong_type(v, what, "a number");
-        return v.as_number();
-    }
-    double number_in(const JsonValue& v, const std::string& what, double lo, double hi, bool lo_open = false) const {
-        const double x = number(v, what);
-        if (x < lo || x > hi || (lo_open && x == lo))
-            fail(v.pos(), what + " is " + number_text(x) + "; expected a number in " + (lo_open ? "(" : "[") +
-                              number_text(lo) + ", " + number_text(hi) + "]");
-        return x;
-    }
-    int integer_in(const JsonValue& v, const std::string& what, int lo, int hi) const {
-        const double x = number(v, what);
-        if (x != std::floor(x) || x < lo || x > hi)
-            fail(v.pos(), what + " is " + number_text(x) + "; expected an integer from " + std::to_string(lo) +
-                              " to " + std::to_string(hi));
-        return static_cast<int>(x);
-    }
-    const std::string& string(const JsonValue& v, const std::string& what) const {
-        if (!v.is_string()) wrong_type(v, what, "a string");
-        return v.as_string();
-    }
-    double optional_number(const JsonValue& obj, const char* key, double fallback, const std::string& what) const {
-        const JsonValue* v = obj.find(key);
-        return v ? number(*v, what + " " + key) : fallback;
-    }
-
-    /// Array of exactly n numbers.
-    std::vector<double> numbers(const JsonValue& v, const std::string& what, std::size_t n) const {
-        if (!v.is_array() || v.items().size() != n)
-            fail(v.pos(), what + " is " + (v.is_array() ? "an array of " + std::to_string(v.items().size()) + " values" : JsonValue::type_name(v.type())) +
-                              "; expected an array of " + std::to_string(n) + " numbers");
-        std::vector<double> out;
-        for (const JsonValue& x : v.items()) out.push_back(number(x, "an element of " + what));
-        return out;
-    }
-
-    Vec3 point(const JsonValue& v, const std::string& what) const {
-        const std::vector<double> c = numbers(v, what, 3);
-        for (double x : c)
-            if (std::fabs(x) > kMaxCoordinate)
-                fail(v.pos(), what + " has a coordinate of " + number_text(x) + "; expected magnitudes up to 1e15");
-        return {static_cast<float>(c[0]), static_cast<float>(c[1]), static_cast<float>(c[2])};
-    }
-    Vec3 direction(const JsonValue& v, const std::string& what) const {
-        const Vec3 d = point(v, what);
-        const double len = std::sqrt(double(d.x) * d.x + double(d.y) * d.y + double(d.z) * d.z);
-        if (!(len > 1e-30)) fail(v.pos(), what + " is the zero vector; expected a non-zero direction");
-        return d;
+    Spectrum spectrum(const JsonValue& v, const std::string& what, SpectrumUse use) const {
+        return m_spectra.spectrum(v, what, use);
     }
 
     // ---------------------------- Camera and image ----------------------------
@@ -217,137 +90,6 @@ private:
         if (double(m_scene.width) * m_scene.height > double(1 << 28))
             fail(v.pos(), "image of " + std::to_string(m_scene.width) + "x" + std::to_string(m_scene.height) +
                               " pixels is too large; expected at most 268435456 pixels");
-    }
-
-    // ---------------------------- Spectra ----------------------------
-
-    Spectrum spectrum(const JsonValue& v, const std::string& what, SpectrumUse use) const {
-        const SpectrumSource source = spectrum_source(v, what, use);
-        // Scan the exact source over the whole sampled range.
-        double lo = 0, hi = 1e30;
-        const char* expected = "a finite value >= 0";
-        if (use == SpectrumUse::Reflectance) hi = 1, expected = "a reflectance in [0, 1]";
-        if (use == SpectrumUse::Index) lo = 1, hi = 100, expected = "an index of refraction in [1, 100]";
-        for (double l = kLambdaMin; l <= kLambdaMax; l += 1.0) {
-            const double x = source.eval(l);
-            if (std::isfinite(x) && x >= lo && x <= hi) continue;
-            fail(v.pos(), what + " is " + number_text(x) + " at " + number_text(l) + " nm; expected " + expected +
-                              " at every wavelength from 360 to 830 nm");
-        }
-        return Spectrum(source, m_resolution);
-    }
-
-    SpectrumSource spectrum_source(const JsonValue& v, const std::string& what, SpectrumUse use) const {
-        if (v.is_number()) return SpectrumSource::constant(v.as_number());
-        if (v.is_array()) return rgb(v, what, 1.0);
-        if (!v.is_object())
-            wrong_type(v, what, "a spectrum: a number, an [r, g, b] array or an object with a \"type\"");
-        const std::string& type = string(required(v, "type", what), what + " type");
-        const std::string w = what + " (" + type + ")";
-        auto need = [&](const char* key) -> double { return number(required(v, key, w), w + " " + key); };
-        auto opt = [&](const char* key, double fallback) { return optional_number(v, key, fallback, w); };
-        auto width = [&](const char* key) {
-            return number_in(required(v, key, w), w + " " + key, 0, 1e6, true);
-        };
-        if (type == "constant") {
-            check_keys(v, w, {"type", "value"});
-            return SpectrumSource::constant(need("value"));
-        }
-        if (type == "gaussian" || type == "sigmoid") {
-            check_keys(v, w, {"type", "center_nm", "width_nm", "scale", "offset"});
-            const double center = need("center_nm"), wd = width("width_nm");
-            return type == "gaussian" ? SpectrumSource::gaussian(center, wd, opt("scale", 1), opt("offset", 0))
-                                      : SpectrumSource::sigmoid(center, wd, opt("scale", 1), opt("offset", 0));
-        }
-        if (type == "blackbody") {
-            check_keys(v, w, {"type", "temperature_k", "scale", "normalize_nm"});
-            const double t = number_in(required(v, "temperature_k", w), w + " temperature_k", 100, 1e6);
-            const double at = v.find("normalize_nm")
-                                  ? number_in(*v.find("normalize_nm"), w + " normalize_nm", 100, 10000)
-                                  : 560.0;
-            return SpectrumSource::blackbody(t, opt("scale", 1), at);
-        }
-        if (type == "table") {
-            check_keys(v, w, {"type", "points", "scale"});
-            const JsonValue& pts = required(v, "points", w);
-            if (!pts.is_array() || pts.items().empty())
-                fail(pts.pos(), w + " points is not a non-empty array; expected [[lambda_nm, value], ...]");
-            std::vector<std::pair<double, double>> table;
-            const double scale = opt("scale", 1);
-            for (const JsonValue& p : pts.items()) {
-                const std::vector<double> lv = numbers(p, w + " point", 2);
-                if (!table.empty() && !(lv[0] > table.back().first))
-                    fail(p.pos(), w + " wavelengths do not increase; expected strictly increasing wavelengths");
-                table.emplace_back(lv[0], lv[1] * scale);
-            }
-            return SpectrumSource::piecewise_linear(std::move(table));
-        }
-        if (type == "cauchy") {
-            check_keys(v, w, {"type", "a", "b_um2", "c_um4"});
-            return SpectrumSource::cauchy(need("a"), opt("b_um2", 0), opt("c_um4", 0));
-        }
-        if (type == "sellmeier") {
-            check_keys(v, w, {"type", "b", "c_um2"});
-            const auto b = numbers(required(v, "b", w), w + " b", 3);
-            const auto c = numbers(required(v, "c_um2", w), w + " c_um2", 3);
-            return SpectrumSource::sellmeier(b[0], b[1], b[2], c[0], c[1], c[2]);
-        }
-        if (type == "rgb") {
-            check_keys(v, w, {"type", "value", "scale"});
-            return rgb(required(v, "value", w), w, opt("scale", 1));
-        }
-        if (type == "illuminant") {
-            check_keys(v, w, {"type", "name", "scale"});
-            const JsonValue& n = required(v, "name", w);
-            const std::string& name = string(n, w + " name");
-            const char* file = name == "D65" ? "cie_d65.csv" : name == "A" ? "cie_a.csv" : nullptr;
-            if (!file)
-                fail(n.pos(), "unknown illuminant " + quote_text(name) + "." + suggestion(name, {"D65", "A"}) +
-                                  " Expected D65 or A");
-            // Tables are normalised to 100 at 560 nm; here to 1.
-            return table_column(embedded_spectral_table(file), "value", opt("scale", 1) / 100.0);
-        }
-        if (type == "colorchecker") {
-            check_keys(v, w, {"type", "patch", "scale"});
-            const JsonValue& n = required(v, "patch", w);
-            const std::string& patch = string(n, w + " patch");
-            const SpectralTable& t = embedded_spectral_table("colorchecker.csv");
-            const std::vector<std::string> patches(t.column_names.begin() + 1, t.column_names.end());
-            if (std::find(patches.begin(), patches.end(), patch) == patches.end())
-                fail(n.pos(), "unknown ColorChecker patch " + quote_text(patch) + "." + suggestion(patch, patches) +
-                                  " Expected one of: " + join(patches));
-            return table_column(t, patch, opt("scale", 1));
-        }
-        const JsonValue& t = *v.find("type");
-        const std::vector<std::string> types = {"constant", "gaussian", "sigmoid", "blackbody", "table", "cauchy",
-                                                "sellmeier", "rgb", "illuminant", "colorchecker"};
-        (void)use;
-        fail(t.pos(), "unknown spectrum type " + quote_text(type) + "." + suggestion(type, types) +
-                          " Expected one of: " + join(types));
-    }
-
-    SpectrumSource rgb(const JsonValue& v, const std::string& what, double scale) const {
-        const std::vector<double> c = numbers(v, what + " rgb", 3);
-        for (double x : c)
-            if (x < 0 || x > 1)
-                fail(v.pos(), what + " rgb component " + number_text(x) +
-                                  " is out of range; expected linear sRGB components in [0, 1] (use \"scale\" for brighter emission)");
-        SpectrumSource s;
-        try {
-            s = rgb_to_spectrum({c[0], c[1], c[2]});
-        } catch (const std::exception& e) {
-            fail(v.pos(), what + ": " + e.what() + "; expected an RGB reflectance that can be fitted");
-        }
-        if (s.kind == SpectrumSource::Kind::Constant) return SpectrumSource::constant(s.p[0] * scale);
-        s.p[3] = scale;
-        return s;
-    }
-
-    static SpectrumSource table_column(const SpectralTable& t, const std::string& column, double scale) {
-        const std::vector<double>& values = t.column(column);
-        std::vector<std::pair<double, double>> points;
-        for (std::size_t i = 0; i < values.size(); ++i) points.emplace_back(t.wavelengths_nm[i], values[i] * scale);
-        return SpectrumSource::piecewise_linear(std::move(points));
     }
 
     // ---------------------------- Materials ----------------------------
@@ -473,7 +215,7 @@ private:
             check_keys(v, what, {"type", "center", "radius", "material", "emission"});
             Sphere s;
             s.center = point(required(v, "center", what), what + " center");
-            s.radius = static_cast<float>(number_in(required(v, "radius", what), what + " radius", 0, kMaxCoordinate, true));
+            s.radius = static_cast<float>(number_in(required(v, "radius", what), what + " radius", 0, kMaxSceneCoordinate, true));
             if (!(s.radius > 0.f)) fail(v.find("radius")->pos(), what + " radius rounds to 0 in single precision; expected a larger radius");
             s.material = shape_material(v, what);
             m_scene.spheres.push_back(s);
@@ -520,7 +262,7 @@ private:
             std::vector<Vec3> p;
             p.reserve(mesh.positions.size());
             for (const Vec3& x : mesh.positions) {
-                if (std::fabs(x.x) > kMaxCoordinate || std::fabs(x.y) > kMaxCoordinate || std::fabs(x.z) > kMaxCoordinate)
+                if (std::fabs(x.x) > kMaxSceneCoordinate || std::fabs(x.y) > kMaxSceneCoordinate || std::fabs(x.z) > kMaxSceneCoordinate)
                     fail(fv.pos(), what + ": a vertex of " + quote_text(display) + " has a coordinate beyond 1e15; expected smaller coordinates");
                 p.push_back(tr.apply(x));
             }

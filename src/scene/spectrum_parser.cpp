@@ -1,0 +1,141 @@
+// Parsing and range checks of the spectrum forms of scene files.
+#include "scene/spectrum_parser.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "spectral/rgb_to_spectrum.h"
+
+namespace spt {
+
+Spectrum SpectrumParser::spectrum(const JsonValue& v, const std::string& what, SpectrumUse use) const {
+    const SpectrumSource source = spectrum_source(v, what);
+    // Scan the exact source over the whole sampled range.
+    double lo = 0, hi = 1e30;
+    const char* expected = "a finite value >= 0";
+    if (use == SpectrumUse::Reflectance) hi = 1, expected = "a reflectance in [0, 1]";
+    if (use == SpectrumUse::Index) lo = 1, hi = 100, expected = "an index of refraction in [1, 100]";
+    for (double l = kLambdaMin; l <= kLambdaMax; l += 1.0) {
+        const double x = source.eval(l);
+        if (std::isfinite(x) && x >= lo && x <= hi) continue;
+        fail(v.pos(), what + " is " + number_text(x) + " at " + number_text(l) + " nm; expected " + expected +
+                          " at every wavelength from 360 to 830 nm");
+    }
+    return Spectrum(source, m_resolution);
+}
+
+SpectrumSource SpectrumParser::spectrum_source(const JsonValue& v, const std::string& what) const {
+    if (v.is_number()) return SpectrumSource::constant(v.as_number());
+    if (v.is_array()) return rgb(v, what, 1.0);
+    if (!v.is_object())
+        wrong_type(v, what, "a spectrum: a number, an [r, g, b] array or an object with a \"type\"");
+    const std::string& type = string(required(v, "type", what), what + " type");
+    const std::string w = what + " (" + type + ")";
+    auto need = [&](const char* key) -> double { return number(required(v, key, w), w + " " + key); };
+    auto opt = [&](const char* key, double fallback) { return optional_number(v, key, fallback, w); };
+    auto width = [&](const char* key) {
+        return number_in(required(v, key, w), w + " " + key, 0, 1e6, true);
+    };
+    if (type == "constant") {
+        check_keys(v, w, {"type", "value"});
+        return SpectrumSource::constant(need("value"));
+    }
+    if (type == "gaussian" || type == "sigmoid") {
+        check_keys(v, w, {"type", "center_nm", "width_nm", "scale", "offset"});
+        const double center = need("center_nm"), wd = width("width_nm");
+        return type == "gaussian" ? SpectrumSource::gaussian(center, wd, opt("scale", 1), opt("offset", 0))
+                                  : SpectrumSource::sigmoid(center, wd, opt("scale", 1), opt("offset", 0));
+    }
+    if (type == "blackbody") {
+        check_keys(v, w, {"type", "temperature_k", "scale", "normalize_nm"});
+        const double t = number_in(required(v, "temperature_k", w), w + " temperature_k", 100, 1e6);
+        const double at = v.find("normalize_nm")
+                              ? number_in(*v.find("normalize_nm"), w + " normalize_nm", 100, 10000)
+                              : 560.0;
+        return SpectrumSource::blackbody(t, opt("scale", 1), at);
+    }
+    if (type == "table") {
+        check_keys(v, w, {"type", "points", "scale"});
+        const JsonValue& pts = required(v, "points", w);
+        if (!pts.is_array() || pts.items().empty())
+            fail(pts.pos(), w + " points is not a non-empty array; expected [[lambda_nm, value], ...]");
+        std::vector<std::pair<double, double>> table;
+        const double scale = opt("scale", 1);
+        for (const JsonValue& p : pts.items()) {
+            const std::vector<double> lv = numbers(p, w + " point", 2);
+            if (!table.empty() && !(lv[0] > table.back().first))
+                fail(p.pos(), w + " wavelengths do not increase; expected strictly increasing wavelengths");
+            table.emplace_back(lv[0], lv[1] * scale);
+        }
+        return SpectrumSource::piecewise_linear(std::move(table));
+    }
+    if (type == "cauchy") {
+        check_keys(v, w, {"type", "a", "b_um2", "c_um4"});
+        return SpectrumSource::cauchy(need("a"), opt("b_um2", 0), opt("c_um4", 0));
+    }
+    if (type == "sellmeier") {
+        check_keys(v, w, {"type", "b", "c_um2"});
+        const auto b = numbers(required(v, "b", w), w + " b", 3);
+        const auto c = numbers(required(v, "c_um2", w), w + " c_um2", 3);
+        return SpectrumSource::sellmeier(b[0], b[1], b[2], c[0], c[1], c[2]);
+    }
+    if (type == "rgb") {
+        check_keys(v, w, {"type", "value", "scale"});
+        return rgb(required(v, "value", w), w, opt("scale", 1));
+    }
+    if (type == "illuminant") {
+        check_keys(v, w, {"type", "name", "scale"});
+        const JsonValue& n = required(v, "name", w);
+        const std::string& name = string(n, w + " name");
+        const char* file = name == "D65" ? "cie_d65.csv" : name == "A" ? "cie_a.csv" : nullptr;
+        if (!file)
+            fail(n.pos(), "unknown illuminant " + quote_text(name) + "." + suggestion(name, {"D65", "A"}) +
+                              " Expected D65 or A");
+        // Tables are normalised to 100 at 560 nm; here to 1.
+        return table_column(embedded_spectral_table(file), "value", opt("scale", 1) / 100.0);
+    }
+    if (type == "colorchecker") {
+        check_keys(v, w, {"type", "patch", "scale"});
+        const JsonValue& n = required(v, "patch", w);
+        const std::string& patch = string(n, w + " patch");
+        const SpectralTable& t = embedded_spectral_table("colorchecker.csv");
+        const std::vector<std::string> patches(t.column_names.begin() + 1, t.column_names.end());
+        if (std::find(patches.begin(), patches.end(), patch) == patches.end())
+            fail(n.pos(), "unknown ColorChecker patch " + quote_text(patch) + "." + suggestion(patch, patches) +
+                              " Expected one of: " + join(patches));
+        return table_column(t, patch, opt("scale", 1));
+    }
+    const JsonValue& t = *v.find("type");
+    const std::vector<std::string> types = {"constant", "gaussian", "sigmoid", "blackbody", "table", "cauchy",
+                                            "sellmeier", "rgb", "illuminant", "colorchecker"};
+    fail(t.pos(), "unknown spectrum type " + quote_text(type) + "." + suggestion(type, types) +
+                      " Expected one of: " + join(types));
+}
+
+SpectrumSource SpectrumParser::rgb(const JsonValue& v, const std::string& what, double scale) const {
+    const std::vector<double> c = numbers(v, what + " rgb", 3);
+    for (double x : c)
+        if (x < 0 || x > 1)
+            fail(v.pos(), what + " rgb component " + number_text(x) +
+                              " is out of range; expected linear sRGB components in [0, 1] (use \"scale\" for brighter emission)");
+    SpectrumSource s;
+    try {
+        s = rgb_to_spectrum({c[0], c[1], c[2]});
+    } catch (const std::exception& e) {
+        fail(v.pos(), what + ": " + e.what() + "; expected an RGB reflectance that can be fitted");
+    }
+    if (s.kind == SpectrumSource::Kind::Constant) return SpectrumSource::constant(s.p[0] * scale);
+    s.p[3] = scale;
+    return s;
+}
+
+SpectrumSource SpectrumParser::table_column(const SpectralTable& t, const std::string& column, double scale) {
+    const std::vector<double>& values = t.column(column);
+    std::vector<std::pair<double, double>> points;
+    for (std::size_t i = 0; i < values.size(); ++i) points.emplace_back(t.wavelengths_nm[i], values[i] * scale);
+    return SpectrumSource::piecewise_linear(std::move(points));
+}
+
+
+}  // namespace spt

@@ -1,0 +1,36 @@
+// Spectra in scene files: a number, an [r, g, b] reflectance, or an object with a "type"
+// (analytic sources, tables, CIE illuminants, ColorChecker patches); see scenes/README.md.
+#pragma once
+#include <string>
+
+#include "scene/json_checker.h"
+#include "spectral/spectral_table.h"
+#include "spectral/spectrum.h"
+
+namespace spt {
+
+/// What a spectrum stands for, which sets its valid range.
+enum class SpectrumUse {
+    Reflectance,  ///< [0, 1]
+    Emission,     ///< finite, >= 0 (radiance, intensity)
+    Index,        ///< index of refraction in [1, 100]
+};
+
+class SpectrumParser : public JsonChecker {
+public:
+    SpectrumParser(const std::string& origin, SpectralResolution resolution)
+        : JsonChecker(origin), m_resolution(resolution) {}
+
+    /// The spectrum described by `v`, checked at every nanometre from 360 to 830 nm for its
+    /// use; `what` names it in messages. Throws LocatedError.
+    Spectrum spectrum(const JsonValue& v, const std::string& what, SpectrumUse use) const;
+
+private:
+    SpectralResolution m_resolution;
+
+    SpectrumSource spectrum_source(const JsonValue& v, const std::string& what) const;
+    SpectrumSource rgb(const JsonValue& v, const std::string& what, double scale) const;
+    static SpectrumSource table_column(const SpectralTable& t, const std::string& column, double scale);
+};
+
+}  // namespace spt
