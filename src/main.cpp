@@ -73,6 +73,7 @@ std::optional<spt::Scene> load_scene(const spt::Options& opt) {
 
 int run(const spt::Options& opt) {
     std::optional<spt::Scene> scene = load_scene(opt);
+    if (!opt.dispersion) scene->disable_dispersion();
     spt::RenderSettings rs;
     rs.width = opt.width.value_or(scene->width);
     rs.height = opt.height.value_or(scene->height);
@@ -81,6 +82,7 @@ int run(const spt::Options& opt) {
     rs.threads = opt.threads > 0 ? opt.threads
                                  : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
     rs.integrator.max_depth = opt.max_depth;
+    rs.integrator.wavelengths_per_path = opt.wavelengths_per_path;
     rs.pass_spp = opt.pass_spp;
 
     std::vector<std::string> outputs = opt.outputs;
@@ -96,7 +98,9 @@ int run(const spt::Options& opt) {
     }
 
     // ---- Checkpoints: what must match to resume, and the state of the last whole pass ----
-    spt::CheckpointInfo info{opt.scene, rs.width, rs.height, rs.spp, opt.spectral.bins,
+    const std::string variant = "wavelengths-per-path=" + std::to_string(opt.wavelengths_per_path) +
+                                " dispersion=" + (opt.dispersion ? "on" : "off");
+    spt::CheckpointInfo info{opt.scene, variant, rs.width, rs.height, rs.spp, opt.spectral.bins,
                              opt.max_depth, rs.seed, 0};
     spt::Film film(rs.width, rs.height);
     if (!opt.resume.empty()) {

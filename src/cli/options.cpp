@@ -55,6 +55,9 @@ Options:
   --seed S               random seed (0 to 2^64-1; default 0); same seed, same image
                          On SIGINT/SIGTERM the image of the passes done so far is written
                          and the program exits with status 130/143.
+  --wavelengths-per-path K   4 (default: hero wavelength set) or 1 (hero alone)
+  --no-dispersion        give dispersive glass its mean index over 380-780 nm (to measure
+                         what dispersion costs)
   --max-depth D          maximum scattering events per path (0 to 100000; default unbounded)
   --checkpoint FILE      save the render state to FILE (atomically) after a whole pass once
                          --checkpoint-interval seconds have passed, and at exit
@@ -152,6 +155,13 @@ Options parse_options(const std::vector<std::string>& args) {
         } else if (flag == "--checkpoint-interval") {
             o.checkpoint_interval =
                 parse_real(flag, next_value(), 0, 1e6, "a number of seconds from 0 to 1000000");
+        } else if (flag == "--wavelengths-per-path") {
+            const std::string v = next_value();
+            if (v != "1" && v != "4")
+                throw UsageError(flag + ": expected 1 (hero only) or 4 (hero set), got '" + v + "'");
+            o.wavelengths_per_path = v == "1" ? 1 : 4;
+        } else if (flag == "--no-dispersion") {
+            o.dispersion = false;
         } else if (flag == "--pass-spp") {
             o.pass_spp = parse_integer<int>(flag, next_value(), 1, 1000000, "an integer from 1 to 1000000");
         } else if (flag == "--max-depth") {
@@ -165,7 +175,7 @@ Options parse_options(const std::vector<std::string>& args) {
             scene_given = true;
         }
         if (inline_value && (flag == "-h" || flag == "--help" || flag == "--version" ||
-                             flag == "--list-scenes" || flag == "--quiet"))
+                             flag == "--list-scenes" || flag == "--quiet" || flag == "--no-dispersion"))
             throw UsageError(flag + ": takes no value");
     }
     return o;

@@ -23,7 +23,8 @@ std::uint64_t fnv1a(std::string_view bytes) {
 
 std::string header_line(const CheckpointInfo& i) {
     std::ostringstream s;
-    s << kMagic << ' ' << i.scene.size() << ':' << i.scene << ' ' << i.width << ' ' << i.height
+    s << kMagic << ' ' << i.scene.size() << ':' << i.scene << ' ' << i.variant.size() << ':'
+      << i.variant << ' ' << i.width << ' ' << i.height
       << ' ' << i.spp << ' ' << i.spectral_bins << ' ' << i.max_depth << ' '
       << i.seed << ' ' << i.samples_completed << '\n';
     return s.str();
@@ -46,13 +47,22 @@ Parsed parse(const std::string& path, const std::string& bytes) {
     const std::size_t eol = body.find('\n');
     if (eol == std::string_view::npos) throw fail("no header line");
     std::istringstream h(std::string(body.substr(0, eol)));
-    std::string magic, scene_field;
+    std::string magic;
     Parsed p;
-    h >> magic >> scene_field;
+    h >> magic;
     if (magic != kMagic) throw fail("not a checkpoint of this program version");
-    const std::size_t colon = scene_field.find(':');
-    if (colon == std::string::npos) throw fail("malformed header");
-    p.info.scene = scene_field.substr(colon + 1);
+    // Strings are stored as <length>:<bytes> so they may contain spaces.
+    auto read_string = [&](std::string& out) {
+        std::size_t n = 0;
+        char colon = 0;
+        h >> n >> colon;
+        if (!h || colon != ':' || n > body.size()) throw fail("malformed header");
+        out.resize(n);
+        h.read(out.data(), static_cast<std::streamsize>(n));
+        if (!h) throw fail("malformed header");
+    };
+    read_string(p.info.scene);
+    read_string(p.info.variant);
     h >> p.info.width >> p.info.height >> p.info.spp >> p.info.spectral_bins >> p.info.max_depth >>
         p.info.seed >> p.info.samples_completed;
     if (!h) throw fail("malformed header");
@@ -72,7 +82,7 @@ std::string read_all(const std::string& path) {
 
 std::string CheckpointInfo::describe() const {
     std::ostringstream s;
-    s << "scene " << scene << ", " << width << "x" << height << ", " << spp << " spp, seed " << seed
+    s << "scene " << scene << " (" << variant << "), " << width << "x" << height << ", " << spp << " spp, seed " << seed
       << ", spectral bins " << spectral_bins << ", max depth " << max_depth;
     return s.str();
 }

@@ -11,12 +11,13 @@ namespace spt {
 /// What a resumed render must share with the one that wrote the checkpoint.
 struct CheckpointInfo {
     std::string scene;
+    std::string variant;  ///< other settings that change the image (e.g. "wpp=4 dispersion=1")
     int width = 0, height = 0, spp = 0, spectral_bins = 0, max_depth = 0;
     std::uint64_t seed = 0;
     int samples_completed = 0;  ///< samples per pixel in the saved film
 
     bool same_render(const CheckpointInfo& o) const {
-        return scene == o.scene && width == o.width && height == o.height && spp == o.spp &&
+        return scene == o.scene && variant == o.variant && width == o.width && height == o.height && spp == o.spp &&
                spectral_bins == o.spectral_bins && max_depth == o.max_depth && seed == o.seed;
     }
     std::string describe() const;

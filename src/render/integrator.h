@@ -14,6 +14,9 @@ struct IntegratorSettings {
     int max_depth = kUnbounded;  ///< scattering events allowed; kUnbounded relies on roulette
     bool roulette = true;
     int roulette_depth = 3;      ///< first bounce at which roulette may end a path
+    /// 4: the hero wavelength set (default); 1: the hero alone, for measuring what the
+    /// companions save (the film weights stay unbiased either way).
+    int wavelengths_per_path = kLambdaCount;
 };
 
 struct PathStats {

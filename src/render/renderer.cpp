@@ -68,6 +68,7 @@ void render_pixel(const Scene& scene, const RenderSettings& settings, const Came
     for (int s = first_sample; s < end_sample; ++s) {
         Rng rng(settings.seed, pixel_index, static_cast<std::uint64_t>(s));
         SampledWavelengths lambda = SampledWavelengths::sample(rng.uniform());
+        if (settings.integrator.wavelengths_per_path == 1) lambda.terminate_secondary();
         const float px = static_cast<float>(x) + rng.uniform();
         const float py = static_cast<float>(y) + rng.uniform();
         const Ray ray = camera.generate_ray(px, py);

@@ -29,6 +29,17 @@ void check_spectrum(const Spectrum& s, const std::string& what, float lo, float 
 
 }  // namespace
 
+void Scene::disable_dispersion() {
+    for (Material& m : materials) {
+        if (m.eta.is_constant()) continue;
+        double sum = 0;
+        int n = 0;
+        for (double l = Spectrum::kBinMin; l <= Spectrum::kBinMax; l += 1.0, ++n) sum += m.eta.source().eval(l);
+        m.eta = Spectrum(SpectrumSource::constant(sum / n), SpectralResolution{});
+    }
+    finalize();
+}
+
 int Scene::add_material(Material m) {
     materials.push_back(std::move(m));
     return static_cast<int>(materials.size()) - 1;

@@ -45,6 +45,9 @@ struct Scene {
     int add_material(Material m);
     /// Checks every value (throws SceneError naming the culprit) and analyses the effects.
     void finalize();
+    /// Replaces every wavelength-dependent index by its mean over 380–780 nm (dispersion off,
+    /// for measuring its cost), then finalizes again.
+    void disable_dispersion();
 
     /// Nearest surface along the ray, t in (0, ray.t_max). Candidates are compared by distance
     /// only; the hit record (the costly part) is built once, for the winner.
