@@ -103,6 +103,10 @@ void Scene::finalize() {
         else m_general_planes.push_back(i);
     }
 
+    // Bounded shapes: a BVH once there are more than a handful (see kBvhThreshold).
+    m_bvh = Bvh{};
+    if (spheres.size() + triangles.size() > kBvhThreshold) m_bvh.build(spheres, triangles);
+
     // Which effects are called for: only materials that some shape uses count.
     effects = Effects{};
     effects.point_lights = !point_lights.empty();

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "geometry/bvh.h"
 #include "geometry/plane.h"
 #include "geometry/sphere.h"
 #include "geometry/triangle.h"
@@ -33,8 +34,7 @@ struct Scene {
     std::vector<Material> materials;
     std::vector<Sphere> spheres;
     std::vector<Plane> planes;
-    /// Triangles of meshes, quads and single triangles, in one flat array (a BVH over it
-    /// comes later; until then they are tested one by one).
+    /// Triangles of meshes, quads and single triangles, in one flat array.
     std::vector<Triangle> triangles;
     std::vector<PointLight> point_lights;
     Spectrum background;  ///< radiance of rays that escape (zero: black)
@@ -43,8 +43,16 @@ struct Scene {
 
     /// Adds a material and returns its index.
     int add_material(Material m);
-    /// Checks every value (throws SceneError naming the culprit) and analyses the effects.
+    /// Checks every value (throws SceneError naming the culprit), analyses the effects and
+    /// builds the acceleration data (the BVH when there are enough bounded shapes).
     void finalize();
+
+    /// Scenes with at most this many spheres and triangles test them in a loop: for a
+    /// Cornell box's two spheres the loop is cheaper than any tree.
+    static constexpr std::size_t kBvhThreshold = 8;
+    /// True when finalize() built a BVH (intersect and occluded use it).
+    bool uses_bvh() const { return !m_bvh.empty(); }
+    const Bvh& bvh() const { return m_bvh; }
 
     /// Nearest surface along the ray, t in (0, ray.t_max). Candidates are compared by distance
     /// only; the hit record (the costly part) is built once, for the winner.
@@ -61,6 +69,15 @@ struct Scene {
         }
         for (int i : m_general_planes)
             if (const double t = planes[i].intersect_t(ray); t < t_best) t_best = t, best_plane = i;
+        if (!m_bvh.empty()) {
+            BvhHit h;
+            if (m_bvh.intersect(ray, spheres, triangles, t_best, h)) {
+                if (is_triangle(h.prim)) return triangles[prim_index(h.prim)].make_hit(h.tri);
+                return spheres[prim_index(h.prim)].make_hit(ray, t_best);
+            }
+            if (best_plane >= 0) return planes[best_plane].make_hit(ray, t_best);
+            return std::nullopt;
+        }
         for (const Sphere& sphere : spheres)
             if (const double t = sphere.intersect_t(ray); t < t_best) t_best = t, best_sphere = &sphere;
         const Triangle* best_triangle = nullptr;
@@ -82,6 +99,7 @@ struct Scene {
         }
         for (int i : m_general_planes)
             if (planes[i].intersect_t(ray) < ray.t_max) return true;
+        if (!m_bvh.empty()) return m_bvh.occluded(ray, spheres, triangles);
         for (const Sphere& sphere : spheres)
             if (sphere.intersect_t(ray) < ray.t_max) return true;
         for (const Triangle& tri : triangles)
@@ -97,6 +115,7 @@ private:
     };
     std::vector<AxisPlane> m_axis_planes;  ///< built by finalize()
     std::vector<int> m_general_planes;     ///< planes that are not axis-aligned
+    Bvh m_bvh;                             ///< over spheres and triangles; empty below the threshold
 };
 
 }  // namespace spt
