@@ -51,7 +51,7 @@ struct Scene {
     /// Cornell box's two spheres the loop is cheaper than any tree.
     static constexpr std::size_t kBvhThreshold = 8;
     /// True when finalize() built a BVH (intersect and occluded use it).
-    bool uses_bvh() const { return !m_bvh.empty(); }
+    bool uses_bvh() const { return m_use_bvh; }
     const Bvh& bvh() const { return m_bvh; }
 
     /// Nearest surface along the ray, t in (0, ray.t_max). Candidates are compared by distance
@@ -69,15 +69,8 @@ struct Scene {
         }
         for (int i : m_general_planes)
             if (const double t = planes[i].intersect_t(ray); t < t_best) t_best = t, best_plane = i;
-        if (!m_bvh.empty()) {
-            BvhHit h;
-            if (m_bvh.intersect(ray, spheres, triangles, t_best, h)) {
-                if (is_triangle(h.prim)) return triangles[prim_index(h.prim)].make_hit(h.tri);
-                return spheres[prim_index(h.prim)].make_hit(ray, t_best);
-            }
-            if (best_plane >= 0) return planes[best_plane].make_hit(ray, t_best);
-            return std::nullopt;
-        }
+        // Scenes with a BVH leave here; the hint keeps the small-scene path inlined whole.
+        if (m_use_bvh) [[unlikely]] return intersect_bvh(ray, t_best, best_plane);
         for (const Sphere& sphere : spheres)
             if (const double t = sphere.intersect_t(ray); t < t_best) t_best = t, best_sphere = &sphere;
         const Triangle* best_triangle = nullptr;
@@ -99,7 +92,7 @@ struct Scene {
         }
         for (int i : m_general_planes)
             if (planes[i].intersect_t(ray) < ray.t_max) return true;
-        if (!m_bvh.empty()) return m_bvh.occluded(ray, spheres, triangles);
+        if (m_use_bvh) [[unlikely]] return occluded_bvh(ray);
         for (const Sphere& sphere : spheres)
             if (sphere.intersect_t(ray) < ray.t_max) return true;
         for (const Triangle& tri : triangles)
@@ -108,6 +101,11 @@ struct Scene {
     }
 
 private:
+    /// The rest of intersect() for scenes with a BVH, given the nearest plane so far. Kept
+    /// out of line so that the small-scene path stays small enough to inline.
+    [[gnu::noinline]] std::optional<Hit> intersect_bvh(const Ray& ray, double t_best, int best_plane) const;
+    [[gnu::noinline]] bool occluded_bvh(const Ray& ray) const;
+
     struct AxisPlane {
         float position;  ///< coordinate of the plane on its axis
         int axis;
@@ -116,6 +114,7 @@ private:
     std::vector<AxisPlane> m_axis_planes;  ///< built by finalize()
     std::vector<int> m_general_planes;     ///< planes that are not axis-aligned
     Bvh m_bvh;                             ///< over spheres and triangles; empty below the threshold
+    bool m_use_bvh = false;                ///< !m_bvh.empty(), in one byte for the hot path
 };
 
 }  // namespace spt
