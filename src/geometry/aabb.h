@@ -34,32 +34,35 @@ struct Aabb {
     }
 };
 
-/// Per-ray constants of the slab test: reciprocal direction (±inf for zero components).
+/// Per-ray constants of the slab test: reciprocal direction (±inf for zero components) and
+/// which of a box's two bounds is met first on each axis.
 struct RaySlabs {
-    Vec3 o;
+    float o[3];
     float inv_d[3];
-    explicit RaySlabs(const Ray& ray) : o(ray.o) {
-        inv_d[0] = 1.f / ray.d.x, inv_d[1] = 1.f / ray.d.y, inv_d[2] = 1.f / ray.d.z;
+    int near[3];  ///< 0: lo first, 1: hi first (negative direction)
+    explicit RaySlabs(const Ray& ray) {
+        const float d[3] = {ray.d.x, ray.d.y, ray.d.z};
+        for (int a = 0; a < 3; ++a) {
+            o[a] = (&ray.o.x)[a];
+            inv_d[a] = 1.f / d[a];
+            near[a] = inv_d[a] < 0.f ? 1 : 0;
+        }
     }
 };
 
-/// True if the ray meets the box [lo, hi] within (0, t_max). A zero direction component
-/// gives ±inf slab distances (or NaN when the origin lies on the slab): comparisons written so
-/// that a NaN never shrinks the interval, as in pbrt.
-inline bool slab_hit(const float lo[3], const float hi[3], const RaySlabs& r, float t_max) {
+/// True if the ray meets the box whose bounds are b[0] = lo and b[1] = hi within
+/// (0, t_max). A zero direction component gives ±inf slab distances (NaN when the origin lies
+/// on the slab): the comparisons are written so that a NaN never shrinks the interval (pbrt).
+inline bool slab_hit(const float* const b[2], const RaySlabs& r, float t_max) {
     constexpr float kGrow = 1.f + 2.f * gamma_bound(3);
     float t0 = 0.f, t1 = t_max;
     for (int a = 0; a < 3; ++a) {
-        const float o = (&r.o.x)[a];
-        float t_near = (lo[a] - o) * r.inv_d[a];
-        float t_far = (hi[a] - o) * r.inv_d[a];
-        if (t_near > t_far) std::swap(t_near, t_far);
-        t_far *= kGrow;
+        const float t_near = (b[r.near[a]][a] - r.o[a]) * r.inv_d[a];
+        const float t_far = (b[1 - r.near[a]][a] - r.o[a]) * r.inv_d[a] * kGrow;
         t0 = t_near > t0 ? t_near : t0;
         t1 = t_far < t1 ? t_far : t1;
-        if (t0 > t1) return false;
     }
-    return true;
+    return t0 <= t1;
 }
 
 }  // namespace spt

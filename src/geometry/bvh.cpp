@@ -132,7 +132,6 @@ bool Bvh::intersect(const Ray& ray, std::span<const Sphere> spheres, std::span<c
                     double& t_best, BvhHit& hit) const {
     if (m_nodes.empty()) return false;
     const RaySlabs slabs(ray);
-    const bool negative[3] = {slabs.inv_d[0] < 0.f, slabs.inv_d[1] < 0.f, slabs.inv_d[2] < 0.f};
     // The box test's limit in float, never below the double t_best.
     float t_limit = next_float_up(static_cast<float>(t_best));
     std::uint32_t stack[kStackSize];
@@ -141,10 +140,10 @@ bool Bvh::intersect(const Ray& ray, std::span<const Sphere> spheres, std::span<c
     bool found = false;
     while (true) {
         const BvhNode& node = m_nodes[current];
-        if (slab_hit(node.lo, node.hi, slabs, t_limit)) {
+        if (node.hit_by(slabs, t_limit)) {
             if (node.count == 0) {
                 // Visit the child on the near side of the split first.
-                if (negative[node.axis]) stack[sp++] = current + 1, current = node.offset;
+                if (slabs.near[node.axis]) stack[sp++] = current + 1, current = node.offset;
                 else stack[sp++] = node.offset, current = current + 1;
                 continue;
             }
@@ -171,16 +170,15 @@ bool Bvh::intersect(const Ray& ray, std::span<const Sphere> spheres, std::span<c
 bool Bvh::occluded(const Ray& ray, std::span<const Sphere> spheres, std::span<const Triangle> triangles) const {
     if (m_nodes.empty()) return false;
     const RaySlabs slabs(ray);
-    const bool negative[3] = {slabs.inv_d[0] < 0.f, slabs.inv_d[1] < 0.f, slabs.inv_d[2] < 0.f};
     const float t_limit = next_float_up(ray.t_max);
     std::uint32_t stack[kStackSize];
     int sp = 0;
     std::uint32_t current = 0;
     while (true) {
         const BvhNode& node = m_nodes[current];
-        if (slab_hit(node.lo, node.hi, slabs, t_limit)) {
+        if (node.hit_by(slabs, t_limit)) {
             if (node.count == 0) {
-                if (negative[node.axis]) stack[sp++] = current + 1, current = node.offset;
+                if (slabs.near[node.axis]) stack[sp++] = current + 1, current = node.offset;
                 else stack[sp++] = node.offset, current = current + 1;
                 continue;
             }

@@ -21,6 +21,10 @@ inline std::uint32_t prim_index(PrimRef p) { return p & ~kTriangleBit; }
 
 struct BvhNode {
     float lo[3], hi[3];
+    bool hit_by(const RaySlabs& r, float t_max) const {
+        const float* const b[2] = {lo, hi};
+        return slab_hit(b, r, t_max);
+    }
     /// Leaf: first entry in the primitive list. Interior: index of the second child (the
     /// first child is the next node).
     std::uint32_t offset;
@@ -52,6 +56,7 @@ public:
 
     bool empty() const { return m_nodes.empty(); }
     std::size_t node_count() const { return m_nodes.size(); }
+    std::span<const BvhNode> nodes() const { return m_nodes; }
 
     /// Nearest hit with t in (0, t_best) among the primitives (the arrays the tree was built
     /// over). On a hit, `t_best` and `hit` are updated and true is returned.

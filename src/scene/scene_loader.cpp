@@ -15,6 +15,7 @@
 
 #include "io/embedded_files.h"
 #include "io/ply_reader.h"
+#include "spectral/glass_catalog.h"
 #include "spectral/rgb_to_spectrum.h"
 #include "spectral/spectral_table.h"
 
@@ -292,6 +293,16 @@ private:
             const auto c = numbers(required(v, "c_um2", w), w + " c_um2", 3);
             return SpectrumSource::sellmeier(b[0], b[1], b[2], c[0], c[1], c[2]);
         }
+        if (type == "glass") {
+            check_keys(v, w, {"type", "name"});
+            const JsonValue& n = required(v, "name", w);
+            const std::string& name = string(n, w + " name");
+            const std::optional<GlassInfo> glass = find_glass(name);
+            if (!glass)
+                fail(n.pos(), "unknown glass " + quote_text(name) + "." + suggestion(name, glass_names()) +
+                                  " Expected one of: " + join(glass_names()));
+            return glass->ior;
+        }
         if (type == "rgb") {
             check_keys(v, w, {"type", "value", "scale"});
             return rgb(required(v, "value", w), w, opt("scale", 1));
@@ -320,7 +331,7 @@ private:
         }
         const JsonValue& t = *v.find("type");
         const std::vector<std::string> types = {"constant", "gaussian", "sigmoid", "blackbody", "table", "cauchy",
-                                                "sellmeier", "rgb", "illuminant", "colorchecker"};
+                                                "sellmeier", "glass", "rgb", "illuminant", "colorchecker"};
         (void)use;
         fail(t.pos(), "unknown spectrum type " + quote_text(type) + "." + suggestion(type, types) +
                           " Expected one of: " + join(types));
