@@ -137,7 +137,7 @@ TEST_F(Cli, VersionPrintsTheVersion) {
 TEST_F(Cli, ListScenesNamesTheBuiltins) {
     const RunResult r = run({"--list-scenes"});
     EXPECT_EQ(r.exit_code, 0);
-    EXPECT_EQ(r.out, "cornell\ncornell-point\nprism\n");
+    EXPECT_EQ(r.out, "cornell\ncornell-point\nglass-spheres\nprism\nshowcase\n");
     EXPECT_TRUE(files().empty());
 }
 
