@@ -2,6 +2,7 @@
 set(SPT_CORE_SOURCES
     src/cli/options.cpp
     src/cli/progress_bar.cpp
+    src/geometry/bvh.cpp
     src/io/atomic_file.cpp
     src/io/embedded_files.cpp
     src/io/exr_writer.cpp

@@ -139,7 +139,7 @@ TEST_F(Cli, ListScenesNamesTheBuiltins) {
     EXPECT_EQ(r.exit_code, 0);
     // The default first, then every built-in scene file, one per line.
     EXPECT_EQ(r.out.rfind("cornell\n", 0), 0u) << r.out;
-    for (const char* name : {"\ncornell-point\n", "\nprism\n"})
+    for (const char* name : {"\ncornell-point\n", "\nprism\n", "\nglass-spheres\n"})
         EXPECT_NE(r.out.find(name), std::string::npos) << r.out;
     EXPECT_TRUE(files().empty());
 }

@@ -116,7 +116,7 @@ TEST(SceneFiles, BuiltinNamesAndRelativePathsBothRender) {
     EXPECT_EQ(run_in(dir, "prism --width 8 --height 6 --spp 1 --quiet -o p.png", err), 0) << err;
     EXPECT_TRUE(fs::exists(dir / "p.png"));
     // A scene file by relative path, whose mesh is found next to the scene file.
-    fs::copy_file(fs::path(SPT_TEST_DIR) / ".." / "scenes" / "prism.json", dir / "sub" / "my.json");
+    fs::copy_file(fs::path(SPT_TEST_DIR) / ".." / "scenes" / "showcase.json", dir / "sub" / "my.json");
     fs::copy_file(fs::path(SPT_TEST_DIR) / ".." / "scenes" / "prism.ply", dir / "sub" / "prism.ply");
     fs::copy_file(fs::path(SPT_TEST_DIR) / ".." / "scenes" / "octahedron.ply", dir / "sub" / "octahedron.ply");
     EXPECT_EQ(run_in(dir, "sub/my.json --width 8 --height 6 --spp 1 --quiet", err), 0) << err;

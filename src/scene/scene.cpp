@@ -66,6 +66,18 @@ void validate_material(const Material& m) {
     }
 }
 
+std::optional<Hit> Scene::intersect_bvh(const Ray& ray, double t_best, int best_plane) const {
+    BvhHit h;
+    if (m_bvh.intersect(ray, spheres, triangles, t_best, h)) {
+        if (is_triangle(h.prim)) return triangles[prim_index(h.prim)].make_hit(h.tri);
+        return spheres[prim_index(h.prim)].make_hit(ray, t_best);
+    }
+    if (best_plane >= 0) return planes[best_plane].make_hit(ray, t_best);
+    return std::nullopt;
+}
+
+bool Scene::occluded_bvh(const Ray& ray) const { return m_bvh.occluded(ray, spheres, triangles); }
+
 void Scene::finalize() {
     const float big = 1e30f;
     for (const Material& m : materials) validate_material(m);
@@ -113,6 +125,11 @@ void Scene::finalize() {
         if (axis >= 0) m_axis_planes.push_back({p.normal[axis] * p.offset, axis, i});
         else m_general_planes.push_back(i);
     }
+
+    // Bounded shapes: a BVH once there are more than a handful (see kBvhThreshold).
+    m_bvh = Bvh{};
+    if (spheres.size() + triangles.size() > kBvhThreshold) m_bvh.build(spheres, triangles);
+    m_use_bvh = !m_bvh.empty();
 
     // Which effects are called for: only materials that some shape uses count.
     effects = Effects{};

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "geometry/bvh.h"
 #include "geometry/plane.h"
 #include "geometry/sphere.h"
 #include "geometry/triangle.h"
@@ -33,8 +34,7 @@ struct Scene {
     std::vector<Material> materials;
     std::vector<Sphere> spheres;
     std::vector<Plane> planes;
-    /// Triangles of meshes, quads and single triangles, in one flat array (a BVH over it
-    /// comes later; until then they are tested one by one).
+    /// Triangles of meshes, quads and single triangles, in one flat array.
     std::vector<Triangle> triangles;
     std::vector<PointLight> point_lights;
     Spectrum background;  ///< radiance of rays that escape (zero: black)
@@ -43,11 +43,19 @@ struct Scene {
 
     /// Adds a material and returns its index.
     int add_material(Material m);
-    /// Checks every value (throws SceneError naming the culprit) and analyses the effects.
+    /// Checks every value (throws SceneError naming the culprit), analyses the effects and
+    /// builds the acceleration data (the BVH when there are enough bounded shapes).
     void finalize();
     /// Replaces every wavelength-dependent index by its mean over 380–780 nm (dispersion off,
     /// for measuring its cost), then finalizes again.
     void disable_dispersion();
+
+    /// Scenes with at most this many spheres and triangles test them in a loop: for a
+    /// Cornell box's two spheres the loop is cheaper than any tree.
+    static constexpr std::size_t kBvhThreshold = 8;
+    /// True when finalize() built a BVH (intersect and occluded use it).
+    bool uses_bvh() const { return m_use_bvh; }
+    const Bvh& bvh() const { return m_bvh; }
 
     /// Nearest surface along the ray, t in (0, ray.t_max). Candidates are compared by distance
     /// only; the hit record (the costly part) is built once, for the winner.
@@ -64,6 +72,8 @@ struct Scene {
         }
         for (int i : m_general_planes)
             if (const double t = planes[i].intersect_t(ray); t < t_best) t_best = t, best_plane = i;
+        // Scenes with a BVH leave here; the hint keeps the small-scene path inlined whole.
+        if (m_use_bvh) [[unlikely]] return intersect_bvh(ray, t_best, best_plane);
         for (const Sphere& sphere : spheres)
             if (const double t = sphere.intersect_t(ray); t < t_best) t_best = t, best_sphere = &sphere;
         const Triangle* best_triangle = nullptr;
@@ -85,6 +95,7 @@ struct Scene {
         }
         for (int i : m_general_planes)
             if (planes[i].intersect_t(ray) < ray.t_max) return true;
+        if (m_use_bvh) [[unlikely]] return occluded_bvh(ray);
         for (const Sphere& sphere : spheres)
             if (sphere.intersect_t(ray) < ray.t_max) return true;
         for (const Triangle& tri : triangles)
@@ -93,6 +104,11 @@ struct Scene {
     }
 
 private:
+    /// The rest of intersect() for scenes with a BVH, given the nearest plane so far. Kept
+    /// out of line so that the small-scene path stays small enough to inline.
+    [[gnu::noinline]] std::optional<Hit> intersect_bvh(const Ray& ray, double t_best, int best_plane) const;
+    [[gnu::noinline]] bool occluded_bvh(const Ray& ray) const;
+
     struct AxisPlane {
         float position;  ///< coordinate of the plane on its axis
         int axis;
@@ -100,6 +116,8 @@ private:
     };
     std::vector<AxisPlane> m_axis_planes;  ///< built by finalize()
     std::vector<int> m_general_planes;     ///< planes that are not axis-aligned
+    Bvh m_bvh;                             ///< over spheres and triangles; empty below the threshold
+    bool m_use_bvh = false;                ///< !m_bvh.empty(), in one byte for the hot path
 };
 
 }  // namespace spt

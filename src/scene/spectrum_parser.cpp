@@ -5,6 +5,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "spectral/glass_catalog.h"
 #include "spectral/rgb_to_spectrum.h"
 
 namespace spt {
@@ -95,6 +96,16 @@ SpectrumSource SpectrumParser::spectrum_source(const JsonValue& v, const std::st
         // Tables are normalised to 100 at 560 nm; here to 1.
         return table_column(embedded_spectral_table(file), "value", opt("scale", 1) / 100.0);
     }
+    if (type == "glass") {
+        check_keys(v, w, {"type", "name"});
+        const JsonValue& n = required(v, "name", w);
+        const std::string& name = string(n, w + " name");
+        const std::optional<GlassInfo> glass = find_glass(name);
+        if (!glass)
+            fail(n.pos(), "unknown glass " + quote_text(name) + "." + suggestion(name, glass_names()) +
+                              " Expected one of: " + join(glass_names()));
+        return glass->ior;
+    }
     if (type == "colorchecker") {
         check_keys(v, w, {"type", "patch", "scale"});
         const JsonValue& n = required(v, "patch", w);
@@ -108,7 +119,7 @@ SpectrumSource SpectrumParser::spectrum_source(const JsonValue& v, const std::st
     }
     const JsonValue& t = *v.find("type");
     const std::vector<std::string> types = {"constant", "gaussian", "sigmoid", "blackbody", "table", "cauchy",
-                                            "sellmeier", "rgb", "illuminant", "colorchecker"};
+                                            "sellmeier", "glass", "rgb", "illuminant", "colorchecker"};
     fail(t.pos(), "unknown spectrum type " + quote_text(type) + "." + suggestion(type, types) +
                       " Expected one of: " + join(types));
 }
