@@ -271,7 +271,7 @@ SampledSpectrum Bdpt::run(const Ray& camera_ray, std::vector<Splat>& splats) {
                 continue;
             }
             const Vertex& qs = m_light[s - 1];
-            if (!connectible(qs) || qs.delta) continue;
+            if (!connectible(qs)) continue;  // a sampled specular lobe does not matter here
             if (t == 1) {
                 // Light vertex seen by the pinhole: a splat on the pixel it projects to.
                 const Vec3 to_camera = pt.p() - qs.p();
@@ -294,7 +294,7 @@ SampledSpectrum Bdpt::run(const Ray& camera_ray, std::vector<Splat>& splats) {
                                   static_cast<float>(xyz.z)});
                 continue;
             }
-            if (!connectible(pt) || pt.delta) continue;
+            if (!connectible(pt)) continue;
             const Vec3 d = qs.p() - pt.p();
             const float dist2 = length_squared(d);
             if (!(dist2 > 0.f)) continue;
