@@ -160,7 +160,8 @@ constexpr float kCausticX = 0.6136f, kCausticZ = 0.3409f;
 
 /// cornell-point: the path tracer cannot carry light from the point light through glass (or
 /// the plastic's mirror coat) to a diffuse surface. Outside those regions the images agree
-/// pixel by pixel; the region excluded is every pixel that sees a sphere (their glass and
+/// pixel by pixel (5σ; the indirect light of the caustics, ~3 % of the image, is below the
+/// per-pixel noise here and checked on the mean instead); the region excluded is every pixel that sees a sphere (their glass and
 /// mirror show the caustics) and the floor within 0.75 of either sphere's foot (the caustic
 /// of the glass ball and the mirror-reflected light around the plastic one).
 TEST(Bdpt, AgreesWithPathTracerOnCornellPointOutsideCaustics) {
@@ -178,6 +179,10 @@ TEST(Bdpt, AgreesWithPathTracerOnCornellPointOutsideCaustics) {
     });
     EXPECT_GT(outside.pixels, kSize * kSize / 2);
     EXPECT_LE(outside.max_z, kZ) << describe(outside);
+    // The caustic light also bounces on, so bdpt is slightly brighter everywhere (about 3 %
+    // at 24×24: 0.578 vs 0.562 ± 0.002); never darker, and not by more than 5 %.
+    EXPECT_GT(outside.mean_b - outside.mean_a, -kZ * outside.se) << describe(outside);
+    EXPECT_LT(outside.mean_b - outside.mean_a, 0.05 * outside.mean_a) << describe(outside);
 
     // Inside the caustic under the glass sphere, bdpt finds far more light.
     const Comparison caustic = compare(*path, *bdpt, [&](int x, int y) {
