@@ -12,10 +12,12 @@ set(SPT_CORE_SOURCES
     src/io/ply_reader.cpp
     src/io/png_writer.cpp
     src/io/ppm_writer.cpp
+    src/render/bdpt.cpp
     src/render/bsdf.cpp
     src/render/checkpoint.cpp
     src/render/film.cpp
     src/render/integrator.cpp
+    src/render/light_sampling.cpp
     src/render/renderer.cpp
     src/scene/builtin_scenes.cpp
     src/scene/effects.cpp

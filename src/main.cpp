@@ -35,11 +35,12 @@ void print_summary(const spt::Scene& scene, const spt::RenderSettings& rs, const
                    const spt::Film& film, const std::string& bins) {
     const double s = st.seconds > 0 ? st.seconds : 1e-9;
     std::fprintf(stderr,
-                 "%s: %dx%d, %d spp, %s spectral bins, %d thread(s)\n"
+                 "%s: %dx%d, %d spp, %s spectral bins, %d thread(s), integrator %s\n"
                  "  time %.2f s, %.3g paths/s, %.3g rays/s (%.3g rays)\n"
                  "  effects: %s\n"
                  "  rejected samples: %llu non-finite, %llu negative\n",
-                 scene.name.c_str(), rs.width, rs.height, rs.spp, bins.c_str(), rs.threads, st.seconds,
+                 scene.name.c_str(), rs.width, rs.height, rs.spp, bins.c_str(), rs.threads,
+                 rs.integrator.kind == spt::IntegratorKind::bdpt ? "bdpt" : "path", st.seconds,
                  double(st.paths) / s, double(st.rays) / s, double(st.rays),
                  scene.effects.describe().c_str(),
                  static_cast<unsigned long long>(film.rejected_nonfinite()),
@@ -82,6 +83,7 @@ int run(const spt::Options& opt) {
     rs.threads = opt.threads > 0 ? opt.threads
                                  : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
     rs.integrator.max_depth = opt.max_depth;
+    rs.integrator.kind = opt.integrator == "bdpt" ? spt::IntegratorKind::bdpt : spt::IntegratorKind::path;
     rs.integrator.wavelengths_per_path = opt.wavelengths_per_path;
     rs.pass_spp = opt.pass_spp;
 
@@ -99,7 +101,8 @@ int run(const spt::Options& opt) {
 
     // ---- Checkpoints: what must match to resume, and the state of the last whole pass ----
     const std::string variant = "wavelengths-per-path=" + std::to_string(opt.wavelengths_per_path) +
-                                " dispersion=" + (opt.dispersion ? "on" : "off");
+                                " dispersion=" + (opt.dispersion ? "on" : "off") +
+                                (opt.integrator == "path" ? "" : " integrator=" + opt.integrator);
     spt::CheckpointInfo info{opt.scene, variant, rs.width, rs.height, rs.spp, opt.spectral.bins,
                              opt.max_depth, rs.seed, 0};
     spt::Film film(rs.width, rs.height);

@@ -58,6 +58,8 @@ Options:
   --wavelengths-per-path K   4 (default: hero wavelength set) or 1 (hero alone)
   --no-dispersion        give dispersive glass its mean index over 380-780 nm (to measure
                          what dispersion costs)
+  --integrator NAME      path (default: unidirectional path tracing) or bdpt
+                         (bidirectional: light and camera subpaths combined by MIS)
   --max-depth D          maximum scattering events per path (0 to 100000; default unbounded)
   --checkpoint FILE      save the render state to FILE (atomically) after a whole pass once
                          --checkpoint-interval seconds have passed, and at exit
@@ -160,6 +162,11 @@ Options parse_options(const std::vector<std::string>& args) {
             if (v != "1" && v != "4")
                 throw UsageError(flag + ": expected 1 (hero only) or 4 (hero set), got '" + v + "'");
             o.wavelengths_per_path = v == "1" ? 1 : 4;
+        } else if (flag == "--integrator") {
+            const std::string v = next_value();
+            if (v != "path" && v != "bdpt")
+                throw UsageError(flag + ": expected path or bdpt, got '" + v + "'");
+            o.integrator = v;
         } else if (flag == "--no-dispersion") {
             o.dispersion = false;
         } else if (flag == "--pass-spp") {

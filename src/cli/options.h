@@ -26,6 +26,7 @@ struct Options {
     int threads = 0;
     std::uint64_t seed = 0;
     int max_depth = -1;
+    std::string integrator = "path";  ///< path or bdpt
     int wavelengths_per_path = 4;  ///< 1 or 4
     bool dispersion = true;        ///< false: dispersive glass gets its mean index
     int pass_spp = 0;  ///< samples per pass (0: automatic); does not change the image

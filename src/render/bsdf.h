@@ -29,4 +29,27 @@ inline SampledSpectrum eval_diffuse_cos(const Material& mat, const Vec3& wo, con
     return mat.kd.sample(lambda) * (std::fabs(cos_i) * kInvPi);
 }
 
+/// Probability of choosing the diffuse lobe at the hero wavelength: the density the
+/// bidirectional MIS weights use (the same function for every strategy, so they sum to 1).
+inline float diffuse_lobe_probability_hero(const Material& mat, float hero_nm) {
+    const float d = mat.kd.eval(hero_nm);
+    if (!(d > 0.f)) return 0.f;
+    return d / (d + mat.ks.eval(hero_nm) + mat.kt.eval(hero_nm));
+}
+
+/// Solid-angle density, for MIS, of sampling wi from wo (non-specular part only, hero
+/// wavelength's lobe choice): p_diffuse · |cos θi|/π when wi is on wo's side, else 0.
+inline float mis_pdf(const Material& mat, const Vec3& wo, const Vec3& wi, const Vec3& n, float hero_nm) {
+    const float cos_o = dot(wo, n), cos_i = dot(wi, n);
+    if (cos_o * cos_i <= 0.f) return 0.f;
+    return diffuse_lobe_probability_hero(mat, hero_nm) * std::fabs(cos_i) * kInvPi;
+}
+
+/// Non-specular BSDF value f (no cosine): kd/π when wo and wi are on the same side.
+inline SampledSpectrum eval_diffuse_f(const Material& mat, const Vec3& wo, const Vec3& wi,
+                                      const Vec3& n, const SampledWavelengths& lambda) {
+    if (dot(wo, n) * dot(wi, n) <= 0.f) return SampledSpectrum(0.f);
+    return mat.kd.sample(lambda) * kInvPi;
+}
+
 }  // namespace spt

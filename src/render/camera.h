@@ -26,6 +26,9 @@ public:
         m_right = right * (2.f * half_w / static_cast<float>(width));
         m_down = true_up * (-2.f * half_h / static_cast<float>(height));
         m_top_left = forward - right * half_w + true_up * half_h;
+        m_width = static_cast<float>(width);
+        m_height = static_cast<float>(height);
+        m_film_area = 4.f * half_w * half_h;
     }
 
     /// Ray through film position (x, y) in pixels, (0, 0) the top-left corner of the image.
@@ -33,8 +36,39 @@ public:
         return {m_origin, normalize(m_top_left + m_right * x + m_down * y), kInfinity};
     }
 
+    // ---- The camera as the end of a light path (bidirectional transport) ----
+    // The pinhole is a delta position; its directions are spread over the image plane at
+    // distance 1, of area A = film_area(). Jittered pixel rays are uniform on that plane, so
+    // their solid-angle density is 1/(A·cos³θ), and the importance We = 1/(A·cos⁴θ) makes a
+    // light path's splats sum to spp × the pixel value over all light paths (see bdpt.h).
+
+    const Vec3& origin() const { return m_origin; }
+    const Vec3& forward() const { return m_forward; }
+    float film_area() const { return m_film_area; }
+
+    /// Film position (pixels) of the unit direction `d` from the pinhole; false when the
+    /// direction misses the image.
+    bool raster_position(const Vec3& d, float& x, float& y) const {
+        const float cos_theta = dot(d, m_forward);
+        if (!(cos_theta > 0.f)) return false;
+        const Vec3 v = d / cos_theta - m_top_left;  // on the plane at distance 1
+        x = dot(v, m_right) / length_squared(m_right);
+        y = dot(v, m_down) / length_squared(m_down);
+        return x >= 0.f && x < m_width && y >= 0.f && y < m_height;
+    }
+    /// Importance We of a direction at angle θ to the view axis (inside the image).
+    float importance(float cos_theta) const {
+        const float c2 = cos_theta * cos_theta;
+        return 1.f / (m_film_area * c2 * c2);
+    }
+    /// Solid-angle density of camera rays in a direction at angle θ (inside the image).
+    float direction_pdf(float cos_theta) const {
+        return 1.f / (m_film_area * cos_theta * cos_theta * cos_theta);
+    }
+
 private:
     Vec3 m_origin, m_forward, m_right, m_down, m_top_left;
+    float m_width = 1.f, m_height = 1.f, m_film_area = 1.f;
 };
 
 }  // namespace spt

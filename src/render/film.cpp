@@ -15,9 +15,16 @@ Film::Film(int width, int height)
 
 Xyz Film::pixel_xyz(int x, int y) const {
     const std::size_t i = index(x, y);
-    if (m_count[i] == 0) return {};
-    const double inv = 1.0 / m_count[i];
-    return {m_xyz[3 * i] * inv, m_xyz[3 * i + 1] * inv, m_xyz[3 * i + 2] * inv};
+    Xyz c;
+    if (m_count[i] > 0) {
+        const double inv = 1.0 / m_count[i];
+        c = {m_xyz[3 * i] * inv, m_xyz[3 * i + 1] * inv, m_xyz[3 * i + 2] * inv};
+    }
+    if (const double m = light_paths_per_pixel(); m > 0 && !m_splat_xyz.empty()) {
+        const double inv = 1.0 / m;
+        c.x += m_splat_xyz[3 * i] * inv, c.y += m_splat_xyz[3 * i + 1] * inv, c.z += m_splat_xyz[3 * i + 2] * inv;
+    }
+    return c;
 }
 
 double Film::pixel_y_standard_error(int x, int y) const {
@@ -26,7 +33,12 @@ double Film::pixel_y_standard_error(int x, int y) const {
     if (n < 2) return 0.0;
     const double mean = m_xyz[3 * i + 1] / n;
     const double variance = std::max(0.0, (m_y_squared[i] / n - mean * mean) * n / (n - 1));
-    return std::sqrt(variance / n);
+    // Splats: each light path adds c_k to this pixel (mostly 0), so the variance of Σc_k/M is
+    // about Σc_k²/M² (the splats' squares; their mean is negligible next to them per path).
+    double splat_variance = 0.0;
+    if (const double m = light_paths_per_pixel(); m > 0 && !m_splat_y_squared.empty())
+        splat_variance = m_splat_y_squared[i] / (m * m);
+    return std::sqrt(variance / n + splat_variance);
 }
 
 namespace {
@@ -53,6 +65,11 @@ std::string Film::save_state() const {
     append_array(out, m_xyz);
     append_array(out, m_y_squared);
     append_array(out, m_count);
+    if (has_splats()) {  // bdpt films only, so path-tracer checkpoints keep their layout
+        out.append(reinterpret_cast<const char*>(&m_light_paths), sizeof m_light_paths);
+        append_array(out, m_splat_xyz);
+        append_array(out, m_splat_y_squared);
+    }
     return out;
 }
 
@@ -64,6 +81,14 @@ void Film::restore_state(std::string_view in) {
     read_array(in, m_xyz);
     read_array(in, m_y_squared);
     read_array(in, m_count);
+    if (!in.empty()) {
+        if (in.size() < sizeof m_light_paths) throw std::runtime_error("film state is truncated");
+        std::memcpy(&m_light_paths, in.data(), sizeof m_light_paths);
+        in.remove_prefix(sizeof m_light_paths);
+        allocate_splats();
+        read_array(in, m_splat_xyz);
+        read_array(in, m_splat_y_squared);
+    }
     if (!in.empty()) throw std::runtime_error("film state has trailing bytes");
     m_rejected_nonfinite = counters[0];
     m_rejected_negative = counters[1];

@@ -37,6 +37,30 @@ public:
         m_y_squared[i] += c.y * c.y;
     }
 
+    // ---- Splats: light-path contributions that land on arbitrary pixels (bdpt, t = 1) ----
+    // Estimator: pixel = Σ camera samples / count + Σ splats / M, with M = light paths traced
+    // over the whole film / pixels (one light path per camera sample, so M = spp after whole
+    // passes). The renderer adds splats in a fixed order (tile by tile), so the sums do not
+    // depend on the thread count. Not thread-safe: one caller at a time.
+
+    /// Adds one splatted XYZ contribution to pixel (x, y).
+    void add_splat(int x, int y, const Xyz& c) {
+        if (m_splat_xyz.empty()) allocate_splats();
+        const std::size_t i = index(x, y);
+        m_splat_xyz[3 * i] += c.x, m_splat_xyz[3 * i + 1] += c.y, m_splat_xyz[3 * i + 2] += c.z;
+        m_splat_y_squared[i] += c.y * c.y;
+    }
+    /// Records that `n` more light paths were traced (whether or not they splatted).
+    void add_light_paths(std::uint64_t n) {
+        if (m_splat_xyz.empty()) allocate_splats();
+        m_light_paths += n;
+    }
+    bool has_splats() const { return !m_splat_xyz.empty(); }
+    /// Counts a splat that was not finite or negative (dropped, like rejected samples).
+    void reject_splat(bool nonfinite) {
+        (nonfinite ? m_rejected_nonfinite : m_rejected_negative).fetch_add(1, std::memory_order_relaxed);
+    }
+
     int width() const { return m_width; }
     int height() const { return m_height; }
     std::uint32_t sample_count(int x, int y) const { return m_count[index(x, y)]; }
@@ -64,8 +88,18 @@ private:
     std::size_t index(int x, int y) const {
         return static_cast<std::size_t>(y) * static_cast<std::size_t>(m_width) + static_cast<std::size_t>(x);
     }
+    void allocate_splats() {
+        m_splat_xyz.assign(m_xyz.size(), 0.0);
+        m_splat_y_squared.assign(m_y_squared.size(), 0.0);
+    }
+    /// Light paths per pixel (M of the splat estimator); 0 when none were traced.
+    double light_paths_per_pixel() const {
+        return static_cast<double>(m_light_paths) / (static_cast<double>(m_width) * m_height);
+    }
     int m_width, m_height;
     std::vector<double> m_xyz;
+    std::vector<double> m_splat_xyz, m_splat_y_squared;  ///< empty unless splats were added
+    std::uint64_t m_light_paths = 0;
     std::vector<double> m_y_squared;
     std::vector<std::uint32_t> m_count;
     std::atomic<std::uint64_t> m_rejected_nonfinite{0}, m_rejected_negative{0};

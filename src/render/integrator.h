@@ -9,8 +9,13 @@
 
 namespace spt {
 
+/// Which estimator renders the image: unidirectional path tracing (the default) or
+/// bidirectional path tracing (bdpt.h).
+enum class IntegratorKind { path, bdpt };
+
 struct IntegratorSettings {
     static constexpr int kUnbounded = -1;
+    IntegratorKind kind = IntegratorKind::path;
     int max_depth = kUnbounded;  ///< scattering events allowed; kUnbounded relies on roulette
     bool roulette = true;
     int roulette_depth = 3;      ///< first bounce at which roulette may end a path

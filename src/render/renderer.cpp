@@ -8,6 +8,8 @@
 #include <thread>
 #include <vector>
 
+#include "render/bdpt.h"
+#include "render/light_sampling.h"
 #include "render/work_queue.h"
 
 namespace spt {
@@ -17,7 +19,72 @@ namespace {
 struct TileTask {
     int x0, y0, x1, y1;
     int first_sample, end_sample;
+    int index;  ///< position of the tile in its pass (the order splats are merged in)
 };
+
+/// Merges the tiles' splats into the film in tile order, whichever thread finishes which
+/// tile first: a tile's splats wait until every tile before it in the pass is merged, so the
+/// film's sums (floating-point, order-sensitive) do not depend on the thread count.
+class SplatMerger {
+public:
+    explicit SplatMerger(Film& film) : m_film(film) {}
+    void reset(int tiles) {
+        const std::lock_guard lock(m_mutex);
+        m_pending.assign(static_cast<std::size_t>(tiles), {});
+        m_next = 0;
+    }
+    void submit(int index, std::vector<Splat>&& splats, std::uint64_t light_paths) {
+        const std::lock_guard lock(m_mutex);
+        m_pending[static_cast<std::size_t>(index)] = {std::move(splats), light_paths, true};
+        while (m_next < m_pending.size() && m_pending[m_next].ready) {
+            Pending& p = m_pending[m_next++];
+            merge(p);
+            p = {};
+        }
+    }
+
+private:
+    struct Pending {
+        std::vector<Splat> splats;
+        std::uint64_t light_paths = 0;
+        bool ready = false;
+    };
+    void merge(const Pending& p) {
+        m_film.add_light_paths(p.light_paths);
+        const auto width = static_cast<std::uint32_t>(m_film.width());
+        for (const Splat& s : p.splats) {
+            const bool finite = std::isfinite(s.x) && std::isfinite(s.y) && std::isfinite(s.z);
+            if (!finite || s.x < 0.f || s.y < 0.f || s.z < 0.f) {
+                m_film.reject_splat(!finite);
+                continue;
+            }
+            m_film.add_splat(static_cast<int>(s.pixel % width), static_cast<int>(s.pixel / width),
+                             {s.x, s.y, s.z});
+        }
+    }
+    Film& m_film;
+    std::mutex m_mutex;
+    std::vector<Pending> m_pending;
+    std::size_t m_next = 0;
+};
+
+/// render_pixel for bidirectional path tracing: the same samples (Rng, wavelengths, jitter),
+/// the camera-side estimate to the pixel and the light-to-camera splats to `splats`.
+void render_pixel_bdpt(const BdptContext& ctx, const RenderSettings& settings, int x, int y,
+                       int first_sample, int end_sample, Film& film, PathStats& stats,
+                       std::vector<Splat>& splats) {
+    const std::uint64_t pixel_index = std::uint64_t(y) * settings.width + x;
+    for (int s = first_sample; s < end_sample; ++s) {
+        Rng rng(settings.seed, pixel_index, static_cast<std::uint64_t>(s));
+        SampledWavelengths lambda = SampledWavelengths::sample(rng.uniform());
+        if (settings.integrator.wavelengths_per_path == 1) lambda.terminate_secondary();
+        const float px = static_cast<float>(x) + rng.uniform();
+        const float py = static_cast<float>(y) + rng.uniform();
+        const Ray ray = ctx.camera.generate_ray(px, py);
+        const SampledSpectrum L = trace_bdpt(ctx, ray, lambda, rng, stats, splats);
+        film.add_sample(x, y, L, lambda);
+    }
+}
 
 /// Counts finished tiles so the producer can wait for the end of a pass.
 class PassLatch {
@@ -94,6 +161,11 @@ RenderStats render(const Scene& scene, const RenderSettings& settings, Film& fil
     const std::uint64_t total_paths =
         std::uint64_t(settings.width) * settings.height * (settings.spp - first_sample);
 
+    const bool bdpt = settings.integrator.kind == IntegratorKind::bdpt;
+    std::optional<LightSampler> lights;
+    if (bdpt) lights.emplace(scene);
+    SplatMerger merger(film);
+
     WorkQueue<TileTask> queue;
     PassLatch latch;
     std::atomic<std::uint64_t> rays{0};
@@ -105,14 +177,24 @@ RenderStats render(const Scene& scene, const RenderSettings& settings, Film& fil
             PathStats local;
             while (std::optional<TileTask> task = queue.pop()) {
                 std::uint64_t paths = 0;
+                std::vector<Splat> splats;
                 if (!cancelled()) {
-                    for (int y = task->y0; y < task->y1; ++y)
-                        for (int x = task->x0; x < task->x1; ++x)
-                            render_pixel(scene, settings, camera, x, y, task->first_sample,
-                                         task->end_sample, film, local);
+                    if (bdpt) {
+                        const BdptContext ctx{scene, camera, *lights, settings.integrator, settings.width};
+                        for (int y = task->y0; y < task->y1; ++y)
+                            for (int x = task->x0; x < task->x1; ++x)
+                                render_pixel_bdpt(ctx, settings, x, y, task->first_sample,
+                                                  task->end_sample, film, local, splats);
+                    } else {
+                        for (int y = task->y0; y < task->y1; ++y)
+                            for (int x = task->x0; x < task->x1; ++x)
+                                render_pixel(scene, settings, camera, x, y, task->first_sample,
+                                             task->end_sample, film, local);
+                    }
                     paths = std::uint64_t(task->x1 - task->x0) * (task->y1 - task->y0) *
                             (task->end_sample - task->first_sample);
                 }
+                if (bdpt) merger.submit(task->index, std::move(splats), paths);
                 latch.finished_one(paths);
             }
             rays.fetch_add(local.rays);
@@ -125,10 +207,12 @@ RenderStats render(const Scene& scene, const RenderSettings& settings, Film& fil
         const int end = std::min(settings.spp, first + pass_spp);
         latch.reset();
         int tiles = 0;
+        const int tiles_x = (settings.width + ts - 1) / ts, tiles_y = (settings.height + ts - 1) / ts;
+        merger.reset(tiles_x * tiles_y);
         for (int y0 = 0; y0 < settings.height; y0 += ts)
             for (int x0 = 0; x0 < settings.width; x0 += ts, ++tiles)
                 queue.push({x0, y0, std::min(x0 + ts, settings.width),
-                            std::min(y0 + ts, settings.height), first, end});
+                            std::min(y0 + ts, settings.height), first, end, tiles});
         while (!latch.wait_for(tiles, std::chrono::milliseconds(200)))
             if (progress) progress(latch.paths(), total_paths);
         if (cancelled()) break;

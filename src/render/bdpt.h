@@ -1,0 +1,56 @@
+// Bidirectional path tracing (Veach 1997; structure of pbrt-v3's BDPTIntegrator).
+//
+// Per sample: a light subpath (a light chosen ∝ power, importance transport: refraction has
+// no 1/η² factor) and a camera subpath (radiance transport) are traced, then every pair of
+// prefixes (s light vertices, t camera vertices) is connected, each weighted by the balance
+// heuristic over all strategies that could have produced the same path. Vertex densities are
+// kept in area measure (pdf_fwd along the subpath's own direction, pdf_rev the other way);
+// specular scattering and point lights are flagged delta and skipped as connection points.
+//
+// Strategies: s = 0 (the camera path hits an emitter), s = 1 (connect to the light's origin),
+// t = 1 (connect a light vertex to the pinhole: a splat on another pixel) and s, t ≥ 2.
+// Emitters that cannot be sampled (infinite planes, the constant environment) are reached by
+// s = 0 only, with MIS weight 1 (see light_sampling.h).
+//
+// Film estimator: pixel = Σ(camera-side contributions)/count + Σ(splats)/M, M = light paths
+// per pixel (Film::add_light_paths); the camera importance We = 1/(A·cos⁴θ) of the whole
+// image plane makes the splats of M·W·H light paths estimate M × each pixel's value.
+//
+// Wavelengths: one SampledWavelengths per sample, shared by both subpaths, each subpath with
+// its own copy of the termination state. A strategy whose vertices include a dispersive
+// refraction (on either side) keeps only the hero wavelength, weighted as after
+// terminate_secondary(); the others keep all four. The MIS densities are those of the hero
+// wavelength (lobe choice included), the same function for every strategy.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "core/rng.h"
+#include "render/camera.h"
+#include "render/integrator.h"
+#include "render/light_sampling.h"
+#include "spectral/cie.h"
+
+namespace spt {
+
+/// A light-to-camera contribution for film pixel `pixel` (y·width + x), already in XYZ.
+struct Splat {
+    std::uint32_t pixel;
+    float x, y, z;
+};
+
+struct BdptContext {
+    const Scene& scene;
+    const Camera& camera;
+    const LightSampler& lights;
+    const IntegratorSettings& settings;
+    int width;  ///< film width, for splat pixel indices
+};
+
+/// One bidirectional sample for the camera ray `ray` (at wavelengths `lambda`, not modified).
+/// Returns what to add to the ray's pixel with Film::add_sample(…, lambda) (strategies that
+/// kept only the hero are folded into its channel) and appends the t = 1 splats.
+SampledSpectrum trace_bdpt(const BdptContext& ctx, const Ray& ray, const SampledWavelengths& lambda,
+                           Rng& rng, PathStats& stats, std::vector<Splat>& splats);
+
+}  // namespace spt

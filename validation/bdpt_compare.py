@@ -1,0 +1,116 @@
+#!/usr/bin/env python3
+"""Equal-time comparison of the path tracer and bdpt (issue 7).
+
+For each scene named on the command line: a long bdpt reference (cached in build/), then each
+integrator for about --seconds seconds (spp from a short calibration run), relative MSE
+against the reference, side-by-side PNGs in validation/results/ and a markdown table.
+
+    python3 validation/bdpt_compare.py prism glass-spheres [--seconds 60] [--size 512]
+
+relMSE = mean over pixels and RGB channels of (x - ref)^2 / (ref^2 + 1e-2).
+Needs numpy and the built program (build/pathtracer).
+"""
+import argparse
+import os
+import subprocess
+import sys
+import time
+import zlib
+
+import numpy as np
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+EXE = os.path.join(ROOT, "build", "pathtracer")
+RESULTS = os.path.join(ROOT, "validation", "results")
+CACHE = os.path.join(ROOT, "build", "bdpt_reference")
+
+
+def read_pfm(path):
+    with open(path, "rb") as f:
+        data = f.read()
+    header, dims, scale, pixels = data.split(b"\n", 3)
+    w, h = map(int, dims.split())
+    dtype = "<f4" if float(scale) < 0 else ">f4"
+    return np.frombuffer(pixels, dtype=dtype, count=w * h * 3).reshape(h, w, 3)[::-1].astype(np.float64)
+
+
+def render(scene, integrator, size, spp, out, threads, seed=0):
+    cmd = [EXE, scene, "--integrator", integrator, "--width", str(size), "--height", str(size),
+           "--spp", str(spp), "--threads", str(threads), "--seed", str(seed), "-o", out, "--quiet"]
+    start = time.monotonic()
+    subprocess.run(cmd, check=True)
+    return time.monotonic() - start
+
+
+def rel_mse(x, ref):
+    return float(np.mean((x - ref) ** 2 / (ref ** 2 + 1e-2)))
+
+
+def write_png(path, rgb):
+    """sRGB 8-bit PNG from linear RGB (clipped), numpy + zlib only."""
+    a = np.clip(rgb, 0, 1)
+    a = np.where(a <= 0.0031308, 12.92 * a, 1.055 * a ** (1 / 2.4) - 0.055)
+    img = (a * 255 + 0.5).astype(np.uint8)
+    h, w, _ = img.shape
+    raw = b"".join(b"\x00" + img[y].tobytes() for y in range(h))
+
+    def chunk(tag, body):
+        c = tag + body
+        return len(body).to_bytes(4, "big") + c + zlib.crc32(c).to_bytes(4, "big")
+
+    png = b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", w.to_bytes(4, "big") + h.to_bytes(4, "big") + b"\x08\x02\x00\x00\x00")
+    png += chunk(b"IDAT", zlib.compress(raw, 6)) + chunk(b"IEND", b"")
+    with open(path, "wb") as f:
+        f.write(png)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("scenes", nargs="+")
+    ap.add_argument("--seconds", type=float, default=60)
+    ap.add_argument("--size", type=int, default=512)
+    ap.add_argument("--threads", type=int, default=2)
+    ap.add_argument("--reference-seconds", type=float, default=1800,
+                    help="time budget of the bdpt reference (rendered once, cached)")
+    args = ap.parse_args()
+    os.makedirs(RESULTS, exist_ok=True)
+    os.makedirs(CACHE, exist_ok=True)
+    rows = []
+    for scene in args.scenes:
+        name = os.path.splitext(os.path.basename(scene))[0]
+        spp_rate = {}
+        for integ in ("path", "bdpt"):  # calibration: spp per second
+            tmp = os.path.join(CACHE, f"{name}_{integ}_calib.pfm")
+            t = render(scene, integ, args.size, 4, tmp, args.threads, seed=99)
+            spp_rate[integ] = 4 / t
+        ref_path = os.path.join(CACHE, f"{name}_{args.size}_ref.pfm")
+        if not os.path.exists(ref_path):
+            spp = max(16, int(spp_rate["bdpt"] * args.reference_seconds))
+            print(f"{name}: reference, bdpt {spp} spp", file=sys.stderr)
+            render(scene, "bdpt", args.size, spp, ref_path, args.threads, seed=12345)
+        ref = read_pfm(ref_path)
+        images, result = {}, {}
+        for integ in ("path", "bdpt"):
+            spp = max(1, int(spp_rate[integ] * args.seconds))
+            out = os.path.join(CACHE, f"{name}_{integ}.pfm")
+            t = render(scene, integ, args.size, spp, out, args.threads, seed=1)
+            images[integ] = read_pfm(out)
+            result[integ] = (spp, t, rel_mse(images[integ], ref))
+        ratio = result["path"][2] / result["bdpt"][2]
+        rows.append((name, result, ratio))
+        side = np.concatenate([images["path"], np.ones((args.size, 8, 3)), images["bdpt"]], axis=1)
+        write_png(os.path.join(RESULTS, f"{name}_path_vs_bdpt.png"), side)
+        write_png(os.path.join(RESULTS, f"{name}_reference.png"), ref)
+    lines = ["| scene | path spp | path s | path relMSE | bdpt spp | bdpt s | bdpt relMSE | path/bdpt relMSE |",
+             "|---|---|---|---|---|---|---|---|"]
+    for name, r, ratio in rows:
+        lines.append(f"| {name} | {r['path'][0]} | {r['path'][1]:.1f} | {r['path'][2]:.4g} | "
+                     f"{r['bdpt'][0]} | {r['bdpt'][1]:.1f} | {r['bdpt'][2]:.4g} | {ratio:.2f}× |")
+    table = "\n".join(lines) + "\n"
+    with open(os.path.join(RESULTS, "bdpt_compare.md"), "w") as f:
+        f.write(table)
+    print(table)
+
+
+if __name__ == "__main__":
+    main()
