@@ -59,7 +59,7 @@ struct Scene {
 
     /// Nearest surface along the ray, t in (0, ray.t_max). Candidates are compared by distance
     /// only; the hit record (the costly part) is built once, for the winner.
-    std::optional<Hit> intersect(const Ray& ray) const {
+    [[gnu::always_inline]] std::optional<Hit> intersect(const Ray& ray) const {
         double t_best = ray.t_max;
         int best_plane = -1;
         const Sphere* best_sphere = nullptr;

@@ -33,7 +33,7 @@ public:
         return lerp(x - static_cast<float>(i), m_bins[i], m_bins[i + 1]);
     }
 
-    SampledSpectrum sample(const SampledWavelengths& w) const {
+    [[gnu::always_inline]] SampledSpectrum sample(const SampledWavelengths& w) const {
         SampledSpectrum s;
         for (int i = 0; i < kLambdaCount; ++i) s[i] = eval(w.lambda[i]);
         return s;
