@@ -148,29 +148,48 @@ TEST(SpectrumSource, SellmeierBk7Indices) {
 
 // ---------------------------------------------------------------- binned spectra
 
-TEST(Spectrum, BinCentresEqualSource) {
-    const SpectrumSource src = SpectrumSource::gaussian(460.0, 35.0, 0.75, 0.05);
-    for (int bins : {1, 4, 16, 100}) {
+TEST(Spectrum, BinsReproduceSpectraInTheLookUpsOwnSpan) {
+    // A table through values at the 16 bin centres, held flat beyond the end centres, is in the
+    // span of the look-up's basis: its least-squares projection must reproduce it.
+    std::vector<std::pair<double, double>> points;
+    for (int i = 0; i < 16; ++i) points.push_back({392.5 + 25.0 * i, 0.2 + 0.5 * ((i * 7) % 5) / 4.0});
+    const SpectrumSource src = SpectrumSource::piecewise_linear(points);
+    const spt::Spectrum s(src, {16});
+    // Up to the midpoint quadrature of the projection (64 points per bin).
+    for (int i = 0; i < 16; ++i) EXPECT_NEAR(s.bins()[i], points[i].second, 2e-4) << "bin " << i;
+}
+
+TEST(Spectrum, BinsAreTheLeastSquaresProjection) {
+    // Normal equations: the residual source − look-up is orthogonal to every basis function
+    // (hats between centres, end ones flat), checked by an independent fine integration. A
+    // smooth source, so that the clamp to the source's range never acts.
+    const SpectrumSource src = SpectrumSource::gaussian(580.0, 150.0, 0.5, 0.2);
+    for (int bins : {4, 16, 100}) {
         const spt::Spectrum s(src, {bins});
-        ASSERT_GE(static_cast<int>(s.bins().size()), bins);  // storage may pad (one bin → two)
         const double width = 400.0 / bins;
-        for (int i = 0; i < bins; ++i) {
-            const double centre = 380.0 + (i + 0.5) * width;
-            const float expected = static_cast<float>(src.eval(centre));
-            EXPECT_EQ(s.bins()[i], expected) << "bin " << i << " of " << bins;
-            // eval at the centre: the float position may land an ulp off the centre, so t is
-            // at most a few 1e-7 and the value moves by that fraction of the neighbour gap.
-            EXPECT_NEAR(s.eval(static_cast<float>(centre)), expected, 1e-6f)
-                << "bin " << i << " of " << bins;
+        std::vector<double> dot(bins, 0.0), norm(bins, 0.0);
+        constexpr int kSteps = 200000;
+        for (int k = 0; k < kSteps; ++k) {
+            const double l = 380.0 + (k + 0.5) * 400.0 / kSteps;
+            const double residual = src.eval(l) - s.eval(static_cast<float>(l));
+            const double x = std::clamp((l - 380.0) / width - 0.5, 0.0, bins - 1.0);
+            const int i = std::min(static_cast<int>(x), bins - 2);
+            const double t = x - i;
+            dot[i] += (1 - t) * residual, dot[i + 1] += t * residual;
+            norm[i] += (1 - t) * std::fabs(src.eval(l)), norm[i + 1] += t * std::fabs(src.eval(l));
         }
+        for (int i = 0; i < bins; ++i)
+            EXPECT_LT(std::fabs(dot[i]), 2e-3 * norm[i]) << "basis " << i << " of " << bins;
     }
 }
 
-TEST(Spectrum, SingleBinIsConstantAtItsCentre) {
-    // One 400-nm bin: its centre is 580 nm, and the value is held everywhere.
+TEST(Spectrum, SingleBinIsConstantAtItsMean) {
+    // One 400-nm bin: the projection onto a constant is the mean over 380–780 nm.
     const SpectrumSource src = SpectrumSource::gaussian(460.0, 35.0, 0.75, 0.05);
     const spt::Spectrum s(src, {1});
-    const float v = static_cast<float>(src.eval(580.0));
+    double mean = 0;  // midpoint rule, as the projection onto a single constant
+    for (int k = 0; k < 64; ++k) mean += src.eval(380.0 + (k + 0.5) * 400.0 / 64) / 64;
+    const float v = static_cast<float>(mean);
     for (float l : {300.f, 360.f, 380.f, 450.f, 580.f, 700.f, 780.f, 830.f}) EXPECT_EQ(s.eval(l), v) << l;
     EXPECT_EQ(s.max_value(), v);
     EXPECT_EQ(s.min_value(), v);
@@ -192,8 +211,7 @@ TEST(Spectrum, LinearBetweenCentresAndHeldOutside) {
     // Held beyond the first and last centre, including outside [380, 780].
     for (float l : {360.f, 379.f, 380.f, 385.f, 392.5f}) EXPECT_EQ(s.eval(l), b.front()) << l;
     for (float l : {767.5f, 770.f, 780.f, 800.f, 830.f}) EXPECT_EQ(s.eval(l), b.back()) << l;
-    EXPECT_EQ(b.front(), static_cast<float>(src.eval(392.5)));
-    EXPECT_EQ(b.back(), static_cast<float>(src.eval(767.5)));
+    EXPECT_EQ(b, spt::project_onto_bins(src, 16));
 }
 
 TEST(Spectrum, ExactModeEvaluatesSource) {

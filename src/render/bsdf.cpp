@@ -88,7 +88,8 @@ std::optional<BsdfSample> sample_bsdf(const Material& mat, const Vec3& wo, const
     float u = u_lobe * total;
     if (u < w_d) return sample_diffuse(mat, wo, n, lambda, u1, u2, w_d / total);
     u -= w_d;
-    if (u < w_s) {
+    // Rounding of u near the top of [0, 1) must never select a lobe of zero weight.
+    if (u < w_s || !(w_t > 0.f)) {
         BsdfSample bs;
         bs.is_specular = true;
         bs.wi = reflect(wo, dot(wo, n) > 0.f ? n : -n);

@@ -65,10 +65,12 @@ struct Scene {
         const Sphere* best_sphere = nullptr;
         // Axis-aligned planes (the walls of most scenes) share three reciprocals per ray: a
         // multiply per plane instead of a division. The sign of t stays exact.
-        const float inv_d[3] = {1.f / ray.d.x, 1.f / ray.d.y, 1.f / ray.d.z};
+        // In double, like every other shape: where two surfaces nearly meet, a float t could
+        // pick the wrong one (tests/hard_cases/nearly_parallel_planes.json).
+        const double inv_d[3] = {1.0 / ray.d.x, 1.0 / ray.d.y, 1.0 / ray.d.z};
         for (const AxisPlane& p : m_axis_planes) {
-            const float t = (p.position - (&ray.o.x)[p.axis]) * inv_d[p.axis];
-            if (t > 0.f && t < t_best) t_best = t, best_plane = p.plane;
+            const double t = (double(p.position) - (&ray.o.x)[p.axis]) * inv_d[p.axis];
+            if (t > 0.0 && t < t_best) t_best = t, best_plane = p.plane;
         }
         for (int i : m_general_planes)
             if (const double t = planes[i].intersect_t(ray); t < t_best) t_best = t, best_plane = i;

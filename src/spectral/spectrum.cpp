@@ -5,6 +5,57 @@
 
 namespace spt {
 
+std::vector<float> project_onto_bins(const SpectrumSource& source, int bins) {
+    const double lo = Spectrum::kBinMin, width = (Spectrum::kBinMax - Spectrum::kBinMin) / bins;
+    // Midpoint samples of the source, kBinSubsamples per bin.
+    const int samples = bins * kBinSubsamples;
+    const double step = width / kBinSubsamples;
+    std::vector<double> f(samples);
+    double f_min = kInfinity, f_max = -kInfinity;
+    for (int k = 0; k < samples; ++k) f[k] = source.eval(lo + (k + 0.5) * step);
+    // The source's range (for the clamp below) from a 0.5 nm scan, which includes the
+    // integer wavelengths where tabulated data has its points.
+    for (double l = lo; l <= Spectrum::kBinMax; l += 0.5) {
+        const double v = source.eval(l);
+        f_min = std::min(f_min, v), f_max = std::max(f_max, v);
+    }
+    if (bins == 1) {
+        double sum = 0;
+        for (double v : f) sum += v;
+        return {static_cast<float>(sum / samples)};
+    }
+    // Right-hand side b_i = ∫ f·φ_i, with φ_i the look-up's basis: a hat between the
+    // neighbouring centres, the end ones held flat to the range's ends.
+    std::vector<double> b(bins, 0.0);
+    for (int k = 0; k < samples; ++k) {
+        const double x = (k + 0.5) / kBinSubsamples - 0.5;  // position in bin-centre units
+        if (x <= 0) { b[0] += f[k] * step; continue; }
+        if (x >= bins - 1) { b[bins - 1] += f[k] * step; continue; }
+        const int i = static_cast<int>(x);
+        const double t = x - i;
+        b[i] += (1 - t) * f[k] * step;
+        b[i + 1] += t * f[k] * step;
+    }
+    // Gram matrix of the basis: tridiagonal, w·(2/3, 1/6) inside, 5/6 on the end diagonals.
+    std::vector<double> diag(bins, 2.0 * width / 3.0), off(bins, width / 6.0);
+    diag.front() = diag.back() = 5.0 * width / 6.0;
+    // Thomas algorithm.
+    for (int i = 1; i < bins; ++i) {
+        const double m = off[i - 1] / diag[i - 1];
+        diag[i] -= m * off[i - 1];
+        b[i] -= m * b[i - 1];
+    }
+    std::vector<float> c(bins);
+    double next = 0;
+    for (int i = bins - 1; i >= 0; --i) {
+        const double v = (b[i] - (i + 1 < bins ? off[i] * next : 0.0)) / diag[i];
+        next = v;
+        // The projection may overshoot sharp features; keep the source's own range.
+        c[i] = static_cast<float>(std::clamp(v, f_min, f_max));
+    }
+    return c;
+}
+
 Spectrum::Spectrum(SpectrumSource source, SpectralResolution resolution)
     : m_source(std::move(source)) {
     m_constant = m_source.is_constant();
@@ -15,14 +66,11 @@ Spectrum::Spectrum(SpectrumSource source, SpectralResolution resolution)
     }
     if (resolution.bins != SpectralResolution::kExact) {
         const int n = resolution.bins;
-        const double width = (kBinMax - kBinMin) / n;
-        m_inv_bin_width = static_cast<float>(1.0 / width);
+        m_inv_bin_width = static_cast<float>(n / double(kBinMax - kBinMin));
+        m_bins = project_onto_bins(m_source, n);
         // One bin is a constant; store it twice so the interpolating look-up needs no branch.
-        m_bins.resize(std::max(n, 2));
+        if (n == 1) m_bins.push_back(m_bins[0]), m_inv_bin_width = 0.f;
         m_last_bin = static_cast<float>(m_bins.size() - 1);
-        for (int i = 0; i < n; ++i)
-            m_bins[i] = static_cast<float>(m_source.eval(kBinMin + (i + 0.5) * width));
-        if (n == 1) m_bins[1] = m_bins[0], m_inv_bin_width = 0.f;
         m_max = *std::max_element(m_bins.begin(), m_bins.end());
         m_min = *std::min_element(m_bins.begin(), m_bins.end());
         return;

@@ -8,6 +8,16 @@
 
 namespace spt {
 
+/// Midpoint samples per bin used to project a source onto the bins.
+inline constexpr int kBinSubsamples = 64;
+
+/// Bin values of `source` for N bins over [380, 780] nm: the least-squares (L2) projection
+/// onto the look-up's own basis (hats between bin centres, the end ones held flat), clamped
+/// to the source's range. Point samples at the centres alias tabulated data with structure
+/// finer than a bin (the 5 nm lines of D65): ColorChecker under D65 at 16 bins goes from mean
+/// ΔE2000 0.56 (point samples) to 0.15 (see validation/results/color_accuracy.md).
+std::vector<float> project_onto_bins(const SpectrumSource& source, int bins);
+
 /// How spectra are represented in a scene: N bins, or exact evaluation of the sources.
 struct SpectralResolution {
     static constexpr int kExact = 0;
@@ -22,8 +32,8 @@ public:
     Spectrum() : Spectrum(SpectrumSource::constant(0.0), SpectralResolution{}) {}
     Spectrum(SpectrumSource source, SpectralResolution resolution);
 
-    /// Value at λ (nm): bins are point samples at bin centres, linearly interpolated between
-    /// centres and held constant beyond the first and last centre. Exact mode evaluates the source.
+    /// Value at λ (nm): bin values (project_onto_bins) sit at the bin centres, linearly
+    /// interpolated between centres and held constant beyond the first and last centre. Exact mode evaluates the source.
     float eval(float lambda_nm) const {
         if (m_constant) return m_constant_value;
         if (m_bins.empty()) return static_cast<float>(m_source.eval(lambda_nm));
