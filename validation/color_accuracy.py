@@ -170,7 +170,7 @@ def _table(sd: colour.SpectralDistribution):
 def project_onto_bins(sd: colour.SpectralDistribution, bins: int) -> np.ndarray:
     """The renderer's bin values (src/spectral/spectrum.cpp): least-squares projection of the
     table onto the look-up's basis (hats between bin centres, end ones held flat) over
-    380-780 nm, from 64 midpoint samples per bin, clamped to the samples' range; float32."""
+    380-780 nm, from 64 midpoint samples per bin, clamped to the range of a 0.5 nm scan; float32."""
     width = (BIN_MAX - BIN_MIN) / bins
     k = np.arange(bins * 64)
     f = _table(sd)(BIN_MIN + (k + 0.5) * width / 64)
@@ -190,7 +190,8 @@ def project_onto_bins(sd: colour.SpectralDistribution, bins: int) -> np.ndarray:
     gram = np.diag(np.full(bins, 2 * width / 3)) + np.diag(np.full(bins - 1, width / 6), 1) \
         + np.diag(np.full(bins - 1, width / 6), -1)
     gram[0, 0] = gram[-1, -1] = 5 * width / 6
-    c = np.clip(np.linalg.solve(gram, b), f.min(), f.max())
+    scan = _table(sd)(np.arange(BIN_MIN, BIN_MAX + 0.25, 0.5))  # range for the clamp, as in C++
+    c = np.clip(np.linalg.solve(gram, b), scan.min(), scan.max())
     return c.astype(np.float32).astype(float)
 
 

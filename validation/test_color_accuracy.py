@@ -33,6 +33,7 @@ from __future__ import annotations
 import subprocess
 from pathlib import Path
 
+import colour
 import numpy as np
 import pytest
 
@@ -84,10 +85,19 @@ def test_binned_spectrum_holds_the_ends_and_interpolates_centres():
     sd = ca.illuminant_sd("D65")
     lam = np.array([360.0, 380.0, 392.5, 405.0, 417.5, 767.5, 780.0, 830.0])
     values = ca.binned(sd, 16, lam)
-    at = ca._table(sd)
-    np.testing.assert_allclose(values[[0, 1, 2]], np.float32(at(392.5)), rtol=1e-7)
-    np.testing.assert_allclose(values[3], (np.float32(at(392.5)) + np.float32(at(417.5))) / 2, rtol=1e-7)
-    np.testing.assert_allclose(values[[5, 6, 7]], np.float32(at(767.5)), rtol=1e-7)
+    c = ca.project_onto_bins(sd, 16)
+    np.testing.assert_allclose(values[[0, 1, 2]], c[0], rtol=1e-7)
+    np.testing.assert_allclose(values[3], (c[0] + c[1]) / 2, rtol=1e-7)
+    np.testing.assert_allclose(values[[5, 6, 7]], c[15], rtol=1e-7)
+
+
+def test_projection_reproduces_a_spectrum_in_the_basis_span():
+    # A table through values at the 16 bin centres, held flat beyond: its projection is itself.
+    centres = 392.5 + 25.0 * np.arange(16)
+    values = 0.2 + 0.5 * ((np.arange(16) * 7) % 5) / 4.0
+    sd = colour.SpectralDistribution(dict(zip(np.r_[380.0, centres, 780.0],
+                                              np.r_[values[0], values, values[-1]])))
+    np.testing.assert_allclose(ca.project_onto_bins(sd, 16), values, atol=2e-4)
 
 
 # ---- the scenes ----
