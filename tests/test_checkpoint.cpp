@@ -111,7 +111,7 @@ TEST_F(Checkpoint, InterruptedAndResumedEqualsStraightRun) {
 // image must equal the straight run, whatever moments the kills hit.
 TEST_F(Checkpoint, KillNineAtRandomMomentsThenResumeEqualsStraightRun) {
     auto args_for = [&](const std::string& out) {
-        return std::vector<std::string>{"--width", "400", "--height", "300", "--spp", "12",
+        return std::vector<std::string>{"--width", "400", "--height", "300", "--spp", "48",
                                         "--pass-spp", "1", "--threads", "2", "--seed", "9",
                                         "--quiet", "-o", (dir / out).string()};
     };
@@ -126,17 +126,17 @@ TEST_F(Checkpoint, KillNineAtRandomMomentsThenResumeEqualsStraightRun) {
         std::vector<std::string> a = args;
         if (fs::exists(ck)) a.insert(a.end(), {"--resume", ck});
         const pid_t pid = spawn(a, dir / "log");
-        if (attempt < 8) {  // the first runs are killed; later ones may finish
+        if (attempt < 8) {  // the first runs are killed (unless they finish first); later ones finish
             std::this_thread::sleep_for(std::chrono::milliseconds(delay_ms(gen)));
             kill(pid, SIGKILL);
-            ++kills;
         }
         exit_code = wait_exit(pid);
+        if (exit_code == 128 + SIGKILL) ++kills;
         ASSERT_TRUE(exit_code == 0 || exit_code == 128 + SIGKILL)
             << "exit " << exit_code << ": " << read_file(dir / "log");
     }
     ASSERT_EQ(exit_code, 0);
-    EXPECT_GE(kills, 8);
+    EXPECT_GE(kills, 4);  // a fast machine may finish a run before its kill arrives
     EXPECT_EQ(read_file(dir / "straight.pfm"), read_file(dir / "resumed.pfm"));
 }
 
