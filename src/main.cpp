@@ -11,6 +11,7 @@
 
 #include "cli/options.h"
 #include "cli/progress_bar.h"
+#include "io/atomic_file.h"
 #include "io/image_writer.h"
 #include "render/checkpoint.h"
 #include "render/renderer.h"
@@ -50,6 +51,9 @@ void print_summary(const spt::Scene& scene, const spt::RenderSettings& rs, const
 void write_outputs(const spt::Options& opt, const std::vector<std::string>& outputs, const spt::Film& film) {
     const spt::ColorSpace space = *spt::color_space_by_name(opt.color_space);
     const spt::Image image = film.develop(space);
+    // A PNG is an sRGB file by definition: it is always developed to sRGB, whatever the
+    // --color-space of the linear outputs.
+    std::optional<spt::Image> srgb_image;
     spt::ImageWriteOptions wo;
     wo.exposure_stops = opt.exposure;
     wo.color_resolution = opt.color_resolution;
@@ -57,7 +61,21 @@ void write_outputs(const spt::Options& opt, const std::vector<std::string>& outp
                          {float(space.green[0]), float(space.green[1])},
                          {float(space.blue[0]), float(space.blue[1])},
                          {float(space.white[0]), float(space.white[1])}};
-    spt::write_images(outputs, image, wo);
+    std::vector<std::pair<std::string, std::string>> files;
+    for (const std::string& path : outputs) {
+        const spt::ImageFormat format = *spt::image_format_from_path(path);  // checked by the parser
+        const spt::Image* source = &image;
+        if (format == spt::ImageFormat::Png && space.name != "srgb") {
+            if (!srgb_image) srgb_image = film.develop(spt::srgb_color_space());
+            source = &*srgb_image;
+        }
+        try {
+            files.emplace_back(path, spt::encode_image(*source, format, wo));
+        } catch (const std::invalid_argument& e) {
+            throw std::runtime_error("cannot write '" + path + "': " + e.what());
+        }
+    }
+    spt::write_files_atomically(files);  // all or nothing
 }
 
 /// SCENE is a built-in name or a path to a scene file (anything ending in .json or naming an

@@ -348,3 +348,19 @@ TEST_F(Cli, OutputIsDeterministic) {
 }
 
 }  // namespace
+
+namespace {
+
+// A PNG is sRGB by definition: --color-space changes the linear outputs, never the PNG.
+TEST_F(Cli, PngIsSrgbWhateverTheColorSpace) {
+    const std::vector<std::string> base = {"--width", "8", "--height", "8", "--spp", "2", "--quiet"};
+    std::vector<std::string> a = base, b = base;
+    a.insert(a.end(), {"-o", "srgb.png", "-o", "srgb.pfm"});
+    b.insert(b.end(), {"--color-space", "xyz", "-o", "xyz.png", "-o", "xyz.pfm"});
+    ASSERT_EQ(run(a).exit_code, 0);
+    ASSERT_EQ(run(b).exit_code, 0);
+    EXPECT_EQ(read_file(m_dir / "srgb.png"), read_file(m_dir / "xyz.png"));
+    EXPECT_NE(read_file(m_dir / "srgb.pfm"), read_file(m_dir / "xyz.pfm"));
+}
+
+}  // namespace

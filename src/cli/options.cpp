@@ -48,7 +48,8 @@ Options:
                          (linear float), .ppm (P3 with #MAX=). Default: SCENE.png
   --exposure STOPS       PNG exposure adjustment in stops (-20 to 20; default 0)
   --color-resolution R   PPM integer levels (2 to 2^62; default 2^25)
-  --color-space NAME     srgb (default), rec2020, acescg or xyz: linear RGB of the float outputs
+  --color-space NAME     srgb (default), rec2020, acescg or xyz: linear RGB of the .exr, .pfm
+                         and .ppm outputs (a .png is always sRGB)
   --spectral-bins N      bins per spectrum, 1 to 1024, or 'exact' to evaluate the
                          analytic spectra at each wavelength (default 16)
   --threads T            worker threads (1 to 1024; default: all cores)
