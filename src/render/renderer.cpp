@@ -68,21 +68,33 @@ private:
     std::size_t m_next = 0;
 };
 
+/// The start of every path sample, shared by both integrators so they draw identical numbers:
+/// Rng(seed, pixel, sample), then the wavelengths, then the jitter inside the pixel.
+struct PixelSample {
+    Rng rng;
+    SampledWavelengths lambda;
+    Ray ray;
+};
+inline PixelSample start_pixel_sample(const RenderSettings& settings, const Camera& camera, int x,
+                                      int y, int s) {
+    const std::uint64_t pixel_index = std::uint64_t(y) * settings.width + x;
+    Rng rng(settings.seed, pixel_index, static_cast<std::uint64_t>(s));
+    SampledWavelengths lambda = SampledWavelengths::sample(rng.uniform());
+    if (settings.integrator.wavelengths_per_path == 1) lambda.terminate_secondary();
+    const float px = static_cast<float>(x) + rng.uniform();
+    const float py = static_cast<float>(y) + rng.uniform();
+    return {rng, lambda, camera.generate_ray(px, py)};
+}
+
 /// render_pixel for bidirectional path tracing: the same samples (Rng, wavelengths, jitter),
 /// the camera-side estimate to the pixel and the light-to-camera splats to `splats`.
 void render_pixel_bdpt(const BdptContext& ctx, const RenderSettings& settings, int x, int y,
                        int first_sample, int end_sample, Film& film, PathStats& stats,
                        std::vector<Splat>& splats) {
-    const std::uint64_t pixel_index = std::uint64_t(y) * settings.width + x;
     for (int s = first_sample; s < end_sample; ++s) {
-        Rng rng(settings.seed, pixel_index, static_cast<std::uint64_t>(s));
-        SampledWavelengths lambda = SampledWavelengths::sample(rng.uniform());
-        if (settings.integrator.wavelengths_per_path == 1) lambda.terminate_secondary();
-        const float px = static_cast<float>(x) + rng.uniform();
-        const float py = static_cast<float>(y) + rng.uniform();
-        const Ray ray = ctx.camera.generate_ray(px, py);
-        const SampledSpectrum L = trace_bdpt(ctx, ray, lambda, rng, stats, splats);
-        film.add_sample(x, y, L, lambda);
+        PixelSample ps = start_pixel_sample(settings, ctx.camera, x, y, s);
+        const SampledSpectrum L = trace_bdpt(ctx, ps.ray, ps.lambda, ps.rng, stats, splats);
+        film.add_sample(x, y, L, ps.lambda);
     }
 }
 
@@ -131,16 +143,10 @@ int effective_pass_spp(const RenderSettings& s) {
 
 void render_pixel(const Scene& scene, const RenderSettings& settings, const Camera& camera, int x,
                   int y, int first_sample, int end_sample, Film& film, PathStats& stats) {
-    const std::uint64_t pixel_index = std::uint64_t(y) * settings.width + x;
     for (int s = first_sample; s < end_sample; ++s) {
-        Rng rng(settings.seed, pixel_index, static_cast<std::uint64_t>(s));
-        SampledWavelengths lambda = SampledWavelengths::sample(rng.uniform());
-        if (settings.integrator.wavelengths_per_path == 1) lambda.terminate_secondary();
-        const float px = static_cast<float>(x) + rng.uniform();
-        const float py = static_cast<float>(y) + rng.uniform();
-        const Ray ray = camera.generate_ray(px, py);
-        const SampledSpectrum L = trace_path(scene, settings.integrator, ray, lambda, rng, stats);
-        film.add_sample(x, y, L, lambda);
+        PixelSample ps = start_pixel_sample(settings, camera, x, y, s);
+        const SampledSpectrum L = trace_path(scene, settings.integrator, ps.ray, ps.lambda, ps.rng, stats);
+        film.add_sample(x, y, L, ps.lambda);
     }
 }
 
