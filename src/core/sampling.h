@@ -1,23 +1,23 @@
 // Warps from uniform numbers to directions, with their densities (solid-angle measure).
 #pragma once
+#include "core/fast_math.h"
 #include "core/vec3.h"
 
 namespace spt {
 
 /// Cosine-weighted direction on the +z hemisphere (Malley: concentric disk, then lift).
+/// Written with selects: which wedge of the square a sample falls in is a coin toss.
 inline Vec3 sample_cosine_hemisphere(float u1, float u2) {
     const float a = 2.f * u1 - 1.f, b = 2.f * u2 - 1.f;
-    float r = 0.f, phi = 0.f;
-    if (a != 0.f || b != 0.f) {
-        if (a * a > b * b) {
-            r = a;
-            phi = (kPi / 4.f) * (b / a);
-        } else {
-            r = b;
-            phi = (kPi / 2.f) - (kPi / 4.f) * (a / b);
-        }
-    }
-    const float x = r * std::cos(phi), y = r * std::sin(phi);
+    // Wedges |a| > |b| map to φ = (π/4)·(b/a); the others to φ = π/2 − (π/4)·(a/b), whose
+    // sine and cosine are the cosine and sine of (π/4)·(a/b).
+    const bool horizontal = a * a > b * b;
+    const float r = horizontal ? a : b;
+    const float num = horizontal ? b : a;
+    const float s = r != 0.f ? num / r : 0.f;  // the centre (a = b = 0) maps to r = 0
+    float sin_t, cos_t;
+    sincos_quarter_pi(s, sin_t, cos_t);
+    const float x = r * (horizontal ? cos_t : sin_t), y = r * (horizontal ? sin_t : cos_t);
     return {x, y, safe_sqrt(1.f - x * x - y * y)};
 }
 

@@ -122,7 +122,7 @@ void Scene::finalize() {
         // Only exactly axis-aligned normals: a tiny tilt can round a component to 1.
         for (int a = 0; a < 3; ++a)
             if (p.normal[(a + 1) % 3] == 0.f && p.normal[(a + 2) % 3] == 0.f) axis = a;
-        if (axis >= 0) m_axis_planes.push_back({p.normal[axis] * p.offset, axis, i});
+        if (axis >= 0) m_axis_planes.add(axis, double(p.normal[axis]) * p.offset, i);
         else m_general_planes.push_back(i);
     }
 

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "geometry/axis_planes.h"
 #include "geometry/bvh.h"
 #include "geometry/plane.h"
 #include "geometry/sphere.h"
@@ -63,15 +64,7 @@ struct Scene {
         double t_best = ray.t_max;
         int best_plane = -1;
         const Sphere* best_sphere = nullptr;
-        // Axis-aligned planes (the walls of most scenes) share three reciprocals per ray: a
-        // multiply per plane instead of a division. The sign of t stays exact.
-        // In double, like every other shape: where two surfaces nearly meet, a float t could
-        // pick the wrong one (tests/hard_cases/nearly_parallel_planes.json).
-        const double inv_d[3] = {1.0 / ray.d.x, 1.0 / ray.d.y, 1.0 / ray.d.z};
-        for (const AxisPlane& p : m_axis_planes) {
-            const double t = (double(p.position) - (&ray.o.x)[p.axis]) * inv_d[p.axis];
-            if (t > 0.0 && t < t_best) t_best = t, best_plane = p.plane;
-        }
+        m_axis_planes.nearest(ray, t_best, best_plane);
         for (int i : m_general_planes)
             if (const double t = planes[i].intersect_t(ray); t < t_best) t_best = t, best_plane = i;
         // Scenes with a BVH leave here; the hint keeps the small-scene path inlined whole.
@@ -90,11 +83,7 @@ struct Scene {
 
     /// True if anything blocks the ray before ray.t_max (shadow rays; glass is opaque to them).
     bool occluded(const Ray& ray) const {
-        const float inv_d[3] = {1.f / ray.d.x, 1.f / ray.d.y, 1.f / ray.d.z};
-        for (const AxisPlane& p : m_axis_planes) {
-            const float t = (p.position - (&ray.o.x)[p.axis]) * inv_d[p.axis];
-            if (t > 0.f && t < ray.t_max) return true;
-        }
+        if (m_axis_planes.any_hit(ray)) return true;
         for (int i : m_general_planes)
             if (planes[i].intersect_t(ray) < ray.t_max) return true;
         if (m_use_bvh) [[unlikely]] return occluded_bvh(ray);
@@ -111,12 +100,7 @@ private:
     [[gnu::noinline]] std::optional<Hit> intersect_bvh(const Ray& ray, double t_best, int best_plane) const;
     [[gnu::noinline]] bool occluded_bvh(const Ray& ray) const;
 
-    struct AxisPlane {
-        float position;  ///< coordinate of the plane on its axis
-        int axis;
-        int plane;       ///< index in planes
-    };
-    std::vector<AxisPlane> m_axis_planes;  ///< built by finalize()
+    AxisPlanes m_axis_planes;              ///< built by finalize()
     std::vector<int> m_general_planes;     ///< planes that are not axis-aligned
     Bvh m_bvh;                             ///< over spheres and triangles; empty below the threshold
     bool m_use_bvh = false;                ///< !m_bvh.empty(), in one byte for the hot path

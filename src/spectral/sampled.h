@@ -2,8 +2,11 @@
 #pragma once
 #include <array>
 #include <cmath>
+#include <cstring>
 
+#include "core/fast_math.h"
 #include "core/math.h"
+#include "core/simd.h"
 
 namespace spt {
 
@@ -13,31 +16,38 @@ inline constexpr int kLambdaCount = 4;
 inline constexpr float kLambdaMin = 360.f, kLambdaMax = 830.f;
 
 /// Spectral values at the path's wavelengths (radiance, throughput, reflectance...).
+/// Arithmetic works on all four lanes at once (core/simd.h); operator[] reads one lane.
 struct SampledSpectrum {
-    std::array<float, kLambdaCount> v{};
+    alignas(16) std::array<float, kLambdaCount> v{};
 
     SampledSpectrum() = default;
-    explicit SampledSpectrum(float c) { v.fill(c); }
+    explicit SampledSpectrum(float c) { set_lanes(splat4(c)); }
+    explicit SampledSpectrum(Float4 lanes) { set_lanes(lanes); }
 
     float& operator[](int i) { return v[i]; }
     float operator[](int i) const { return v[i]; }
 
+    Float4 lanes() const {
+        Float4 r;
+        std::memcpy(&r, v.data(), sizeof r);
+        return r;
+    }
+    void set_lanes(Float4 r) { std::memcpy(v.data(), &r, sizeof r); }
+
 #define SPT_ELEMENTWISE(op)                                                         \
     SampledSpectrum& operator op##=(const SampledSpectrum& b) {                     \
-        for (int i = 0; i < kLambdaCount; ++i) v[i] op## = b.v[i];                  \
+        set_lanes(lanes() op b.lanes());                                            \
         return *this;                                                               \
     }                                                                               \
     SampledSpectrum operator op(const SampledSpectrum& b) const {                   \
-        SampledSpectrum r = *this;                                                  \
-        return r op## = b;                                                          \
+        return SampledSpectrum(lanes() op b.lanes());                               \
     }                                                                               \
     SampledSpectrum& operator op##=(float s) {                                      \
-        for (int i = 0; i < kLambdaCount; ++i) v[i] op## = s;                       \
+        set_lanes(lanes() op splat4(s));                                            \
         return *this;                                                               \
     }                                                                               \
     SampledSpectrum operator op(float s) const {                                    \
-        SampledSpectrum r = *this;                                                  \
-        return r op## = s;                                                          \
+        return SampledSpectrum(lanes() op splat4(s));                               \
     }
     SPT_ELEMENTWISE(+)
     SPT_ELEMENTWISE(-)
@@ -45,22 +55,11 @@ struct SampledSpectrum {
     SPT_ELEMENTWISE(/)
 #undef SPT_ELEMENTWISE
 
-    float max_value() const {
-        float m = v[0];
-        for (int i = 1; i < kLambdaCount; ++i) m = std::max(m, v[i]);
-        return m;
-    }
-    float average() const {
-        float s = 0.f;
-        for (float x : v) s += x;
-        return s / kLambdaCount;
-    }
-    bool is_zero() const {
-        for (float x : v)
-            if (x != 0.f) return false;
-        return true;
-    }
+    float max_value() const { return std::max(std::max(v[0], v[1]), std::max(v[2], v[3])); }
+    float average() const { return (v[0] + v[1] + v[2] + v[3]) / kLambdaCount; }
+    bool is_zero() const { return (v[0] == 0.f) & (v[1] == 0.f) & (v[2] == 0.f) & (v[3] == 0.f); }
 };
+static_assert(kLambdaCount == 4, "SampledSpectrum maps the wavelengths onto one Float4");
 
 /// Density of visible-wavelength sampling (Radziszewski et al. 2009), exactly normalised on
 /// [360, 830] nm and shaped like the eye's sensitivity, so film noise is spread evenly.
@@ -70,14 +69,20 @@ inline float visible_wavelength_pdf(float lambda_nm) {
     return 0.0039398042f / (c * c);
 }
 
-/// Inverse CDF of visible_wavelength_pdf for u in [0, 1), returning λ and its pdf together:
-/// with y = tanh(0.0072·(538 − λ)), cosh⁻² = 1 − y², so the pdf costs no transcendental, and
-/// atanh(y) = ½·log((1 + y)/(1 − y)) needs a single logarithm.
-inline void sample_visible_wavelength(float u, float& lambda_nm, float& pdf) {
-    const float y = 0.85691062f - 1.82750197f * u;
-    const float lambda = 538.f - 69.4444444f * std::log((1.f + y) / (1.f - y));
-    lambda_nm = std::clamp(lambda, kLambdaMin, kLambdaMax);
+/// Inverse CDF of visible_wavelength_pdf for u in [0, 1), four at a time, returning λ and
+/// its pdf together: with y = tanh(0.0072·(538 − λ)), cosh⁻² = 1 − y², so the pdf costs no
+/// transcendental, and atanh(y) = ½·log((1 + y)/(1 − y)) needs a single logarithm.
+inline void sample_visible_wavelength(Float4 u, Float4& lambda_nm, Float4& pdf) {
+    const Float4 y = 0.85691062f - 1.82750197f * u;
+    // (1 + y)/(1 − y) lies in [0.0149, 12.97]: inside log_positive's domain.
+    const Float4 lambda = 538.f - 69.4444444f * log_positive((1.f + y) / (1.f - y));
+    lambda_nm = min4(max4(lambda, splat4(kLambdaMin)), splat4(kLambdaMax));
     pdf = 0.0039398042f * (1.f - y * y);
+}
+inline void sample_visible_wavelength(float u, float& lambda_nm, float& pdf) {
+    Float4 l, p;
+    sample_visible_wavelength(splat4(u), l, p);
+    lambda_nm = l[0], pdf = p[0];
 }
 inline float sample_visible_wavelength(float u) {
     float lambda, pdf;
@@ -93,12 +98,13 @@ struct SampledWavelengths {
 
     /// Hero from u, companions from u + k/K (mod 1) through the same inverse CDF (stratified).
     static SampledWavelengths sample(float u) {
+        Float4 ui = u + Float4{0.f, 1.f / kLambdaCount, 2.f / kLambdaCount, 3.f / kLambdaCount};
+        ui = ui >= 1.f ? ui - 1.f : ui;
+        Float4 l, p;
+        sample_visible_wavelength(ui, l, p);
         SampledWavelengths w;
-        for (int i = 0; i < kLambdaCount; ++i) {
-            float ui = u + static_cast<float>(i) / kLambdaCount;
-            if (ui >= 1.f) ui -= 1.f;
-            sample_visible_wavelength(ui, w.lambda[i], w.pdf[i]);
-        }
+        std::memcpy(w.lambda.data(), &l, sizeof l);
+        std::memcpy(w.pdf.data(), &p, sizeof p);
         return w;
     }
 

@@ -62,6 +62,7 @@ Spectrum::Spectrum(SpectrumSource source, SpectralResolution resolution)
     if (m_constant) {
         m_constant_value = static_cast<float>(m_source.eval(550.0));
         m_max = m_min = m_constant_value;
+        m_zero = m_constant_value == 0.f;
         return;
     }
     if (resolution.bins != SpectralResolution::kExact) {
@@ -71,6 +72,8 @@ Spectrum::Spectrum(SpectrumSource source, SpectralResolution resolution)
         // One bin is a constant; store it twice so the interpolating look-up needs no branch.
         if (n == 1) m_bins.push_back(m_bins[0]), m_inv_bin_width = 0.f;
         m_last_bin = static_cast<float>(m_bins.size() - 1);
+        m_lookup = m_bins;
+        m_lookup.push_back(m_bins.back());
         m_max = *std::max_element(m_bins.begin(), m_bins.end());
         m_min = *std::min_element(m_bins.begin(), m_bins.end());
         return;

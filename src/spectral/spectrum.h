@@ -1,6 +1,7 @@
 // Spectrum: an analytic source plus its N-bin sampling over [380, 780] nm. The renderer
 // evaluates the bins (fast, the default) or the source itself (--spectral-bins exact).
 #pragma once
+#include <cstring>
 #include <vector>
 
 #include "spectral/sampled.h"
@@ -39,20 +40,34 @@ public:
         if (m_bins.empty()) return static_cast<float>(m_source.eval(lambda_nm));
         // Clamping the bin coordinate holds the end values and keeps the look-up branch-free.
         const float x = std::clamp((lambda_nm - kBinMin) * m_inv_bin_width - 0.5f, 0.f, m_last_bin);
-        const int i = std::min(static_cast<int>(x), static_cast<int>(m_last_bin) - 1);
-        return lerp(x - static_cast<float>(i), m_bins[i], m_bins[i + 1]);
+        const int i = static_cast<int>(x);
+        return lerp(x - static_cast<float>(i), m_lookup[i], m_lookup[i + 1]);
     }
 
+    /// Values at the path's wavelengths: eval() on four lanes at once.
     [[gnu::always_inline]] SampledSpectrum sample(const SampledWavelengths& w) const {
-        SampledSpectrum s;
-        for (int i = 0; i < kLambdaCount; ++i) s[i] = eval(w.lambda[i]);
-        return s;
+        if (m_constant) return SampledSpectrum(m_constant_value);
+        if (m_bins.empty()) [[unlikely]] {
+            SampledSpectrum s;
+            for (int i = 0; i < kLambdaCount; ++i) s[i] = eval(w.lambda[i]);
+            return s;
+        }
+        Float4 lambda;
+        std::memcpy(&lambda, w.lambda.data(), sizeof lambda);
+        const Float4 x = min4(max4((lambda - kBinMin) * m_inv_bin_width - 0.5f, splat4(0.f)),
+                              splat4(m_last_bin));
+        const Int4 i = to_int4(x);
+        const Float4 t = x - to_float4(i);
+        const float* b = m_lookup.data();
+        const Float4 lo = {b[i[0]], b[i[1]], b[i[2]], b[i[3]]};
+        const Float4 hi = {b[i[0] + 1], b[i[1] + 1], b[i[2] + 1], b[i[3] + 1]};
+        return SampledSpectrum((1.f - t) * lo + t * hi);
     }
 
     const SpectrumSource& source() const { return m_source; }
     const std::vector<float>& bins() const { return m_bins; }
     bool is_constant() const { return m_constant; }
-    bool is_zero() const { return m_constant && m_constant_value == 0.f; }
+    bool is_zero() const { return m_zero; }
     /// Largest and smallest value the renderer can see (bins, or a dense scan in exact mode).
     float max_value() const { return m_max; }
     float min_value() const { return m_min; }
@@ -60,9 +75,13 @@ public:
 private:
     SpectrumSource m_source;
     std::vector<float> m_bins;  ///< empty in exact mode
+    /// m_bins with the last value repeated: at the last centre the look-up reads one past it
+    /// with weight 0, so it needs no clamp of the index.
+    std::vector<float> m_lookup;
     float m_inv_bin_width = 0.f;
     float m_last_bin = 0.f;     ///< index of the last bin, as a float
     bool m_constant = false;
+    bool m_zero = false;  ///< constant 0: material lobe tests read one byte per bounce
     float m_constant_value = 0.f;
     float m_max = 0.f, m_min = 0.f;
 };

@@ -1,0 +1,37 @@
+// Logarithm and sine/cosine for the hot sampling code, written without branches or library
+// calls so that they inline, and the logarithm works on the four wavelengths of a path at once. Both are plain series with their exact coefficients, kept to float accuracy by
+// range reduction (tests/test_fast_math.cpp bounds the error against <cmath>).
+#pragma once
+#include <bit>
+
+#include "core/simd.h"
+
+namespace spt {
+
+/// Natural logarithm of positive, finite, normal floats, four at a time (no checks: the
+/// callers' arguments are in a known range). x = 2^e·m with m in [√½, √2), and
+/// log m = 2·atanh(z) with z = (m − 1)/(m + 1), |z| ≤ 0.172: five terms of the atanh series
+/// leave < 1e-9.
+inline Float4 log_positive(Float4 x) {
+    const Int4 bits = std::bit_cast<Int4>(x);
+    const Int4 mantissa = bits & 0x007fffff;
+    // Mantissas above √2 move down an octave: above is −1 in those lanes, 0 elsewhere.
+    const Int4 above = mantissa > 0x3504f3;
+    const Int4 e = ((bits >> 23) & 0xff) - 127 - above;
+    const Int4 m_bits = mantissa | ((127 + above) << 23);
+    const Float4 m = std::bit_cast<Float4>(m_bits);
+    const Float4 z = (m - 1.f) / (m + 1.f), z2 = z * z;
+    const Float4 series = 1.f + z2 * (1.f / 3 + z2 * (1.f / 5 + z2 * (1.f / 7 + z2 * (1.f / 9))));
+    return to_float4(e) * 0.693147180559945f + 2.f * z * series;
+}
+inline float log_positive(float x) { return log_positive(splat4(x))[0]; }
+
+/// sin and cos of θ = (π/4)·s for s in [−1, 1] (|θ| ≤ π/4): Taylor series to θ⁹ and θ¹⁰,
+/// whose first omitted terms are below 2e-9 there.
+inline void sincos_quarter_pi(float s, float& sin_out, float& cos_out) {
+    const float t = 0.785398163397448f * s, t2 = t * t;
+    sin_out = t * (1.f - t2 * (1.f / 6 - t2 * (1.f / 120 - t2 * (1.f / 5040 - t2 * (1.f / 362880)))));
+    cos_out = 1.f - t2 * (0.5f - t2 * (1.f / 24 - t2 * (1.f / 720 - t2 * (1.f / 40320 - t2 * (1.f / 3628800)))));
+}
+
+}  // namespace spt

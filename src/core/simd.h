@@ -1,0 +1,20 @@
+// Four-lane float vectors, one lane per wavelength of a path. GCC/Clang vector extensions
+// (no library): SSE on x86-64, NEON on ARM, plain scalar code elsewhere. Each lane rounds
+// exactly as the scalar operation would, so vector and scalar code give the same bits.
+#pragma once
+#include <cstdint>
+
+namespace spt {
+
+using Float4 = float __attribute__((vector_size(16)));
+using Int4 = std::int32_t __attribute__((vector_size(16)));
+
+inline Float4 splat4(float v) { return Float4{v, v, v, v}; }
+inline Int4 splat4(std::int32_t v) { return Int4{v, v, v, v}; }
+/// Lane-wise minimum and maximum (b where a is NaN, like a < b ? a : b).
+inline Float4 min4(Float4 a, Float4 b) { return a < b ? a : b; }
+inline Float4 max4(Float4 a, Float4 b) { return a > b ? a : b; }
+inline Int4 to_int4(Float4 v) { return __builtin_convertvector(v, Int4); }  ///< truncates
+inline Float4 to_float4(Int4 v) { return __builtin_convertvector(v, Float4); }
+
+}  // namespace spt

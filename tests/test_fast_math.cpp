@@ -1,0 +1,61 @@
+// The branch-free logarithm and sine/cosine of the sampling code against <cmath>, over the
+// whole range their callers use and beyond.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "core/fast_math.h"
+#include "core/rng.h"
+#include "spectral/sampled.h"
+
+namespace {
+
+TEST(FastMath, LogMatchesStdLogOverEveryOctave) {
+    // 2^-40 … 2^40 (every exponent), dense inside the wavelength sampler's [0.0149, 12.97].
+    double worst = 0;
+    spt::Rng rng(1, 2, 3);
+    for (int k = 0; k < 200000; ++k) {
+        const float x = k < 100000 ? std::ldexp(1.f + rng.uniform(), static_cast<int>(rng.uniform() * 80) - 40)
+                                   : 0.0149f + 12.96f * rng.uniform();
+        const double exact = std::log(static_cast<double>(x));
+        const double err = std::fabs(spt::log_positive(x) - exact) / std::max(1.0, std::fabs(exact));
+        worst = std::max(worst, err);
+    }
+    EXPECT_LT(worst, 4e-7);  // a few float ulps of max(1, |log x|)
+    EXPECT_EQ(spt::log_positive(1.f), 0.f);
+    EXPECT_NEAR(spt::log_positive(std::sqrt(2.f)), std::log(std::sqrt(2.0)), 1e-7);
+    // Four lanes give the same bits as one at a time.
+    const spt::Float4 x = {0.02f, 0.7f, 1.4142135f, 12.5f};
+    const spt::Float4 l = spt::log_positive(x);
+    for (int i = 0; i < 4; ++i) EXPECT_EQ(l[i], spt::log_positive(x[i]));
+}
+
+TEST(FastMath, SinCosMatchStdOnTheQuarterCircle) {
+    double worst = 0;
+    for (int k = -100000; k <= 100000; ++k) {
+        const float s = static_cast<float>(k) / 100000.f;
+        float sn, cs;
+        spt::sincos_quarter_pi(s, sn, cs);
+        const double theta = 0.78539816339744831 * s;
+        worst = std::max({worst, std::fabs(sn - std::sin(theta)), std::fabs(cs - std::cos(theta))});
+    }
+    EXPECT_LT(worst, 2e-7);
+}
+
+TEST(FastMath, WavelengthSamplerInvertsItsCdf) {
+    // λ(u) must be the inverse of the closed-form CDF of visible_wavelength_pdf:
+    // F(λ) = (tanh(0.0072·(λ − 538)) − tanh(0.0072·(360 − 538))) / 1.82750197.
+    const double t0 = std::tanh(0.0072 * (360.0 - 538.0));
+    double worst = 0;
+    for (int k = 0; k < 10000; ++k) {
+        const float u = (static_cast<float>(k) + 0.5f) / 10000.f;
+        float lambda, pdf;
+        spt::sample_visible_wavelength(u, lambda, pdf);
+        const double F = (std::tanh(0.0072 * (lambda - 538.0)) - t0) / 1.82750197;
+        worst = std::max(worst, std::fabs(F - u));
+        EXPECT_NEAR(pdf, spt::visible_wavelength_pdf(lambda), 2e-6 * pdf) << u;
+    }
+    EXPECT_LT(worst, 2e-6);
+}
+
+}  // namespace
