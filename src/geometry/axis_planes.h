@@ -40,13 +40,11 @@ public:
     [[gnu::always_inline]] void nearest(const Ray& ray, double& t_best, int& best) const {
         // One reciprocal per axis: a multiply per plane instead of a division. The sign of t
         // stays exact; a zero direction gives ±inf or NaN, both rejected by the comparisons.
-        const Double2 o[3] = {splat(ray.o.x), splat(ray.o.y), splat(ray.o.z)};
-        const Double2 inv[3] = {splat(1.0 / ray.d.x), splat(1.0 / ray.d.y), splat(1.0 / ray.d.z)};
         Double2 t_min = splat(t_best), i_min = splat(best);
-        test(m_first[0], o[0], inv[0], t_min, i_min);
-        test(m_first[1], o[1], inv[1], t_min, i_min);
-        test(m_first[2], o[2], inv[2], t_min, i_min);
-        for (const Extra& e : m_more) test(e.pair, o[e.axis], inv[e.axis], t_min, i_min);
+        test(m_first[0], splat(ray.o.x), splat(1.0 / ray.d.x), t_min, i_min);
+        test(m_first[1], splat(ray.o.y), splat(1.0 / ray.d.y), t_min, i_min);
+        test(m_first[2], splat(ray.o.z), splat(1.0 / ray.d.z), t_min, i_min);
+        if (!m_more.empty()) [[unlikely]] test_more(ray, t_min, i_min);
         // The nearer lane; on a tie (coincident planes) the lower plane index, as a list
         // tested in order would give.
         const bool second = t_min[1] < t_min[0] || (t_min[1] == t_min[0] && i_min[1] < i_min[0]);
@@ -86,6 +84,14 @@ private:
         const Long2 nearer = (t > 0.0) & (t < t_min);
         t_min = nearer ? t : t_min;
         i_min = nearer ? p.index : i_min;
+    }
+
+    /// The planes beyond two per axis; out of line, so that the common case keeps its
+    /// per-axis values in registers.
+    [[gnu::noinline]] void test_more(const Ray& ray, Double2& t_min, Double2& i_min) const {
+        const Double2 o[3] = {splat(ray.o.x), splat(ray.o.y), splat(ray.o.z)};
+        const Double2 inv[3] = {splat(1.0 / ray.d.x), splat(1.0 / ray.d.y), splat(1.0 / ray.d.z)};
+        for (const Extra& e : m_more) test(e.pair, o[e.axis], inv[e.axis], t_min, i_min);
     }
 
     Pair m_first[3] = {empty_pair(), empty_pair(), empty_pair()};

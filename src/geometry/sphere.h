@@ -16,12 +16,18 @@ struct Sphere {
     double intersect_t(const Ray& ray) const {
         // Cheap float rejection of clear misses (most rays): sphere behind the origin or the
         // line passing outside the sphere by a margin far above float rounding.
+        // (SphereLanes makes the same test on four spheres at once.)
         const Vec3 oc = center - ray.o;
         const float tc = dot(oc, ray.d);
         const float oc2 = dot(oc, oc);
         const float r2 = radius * radius;
         if (tc < -radius && oc2 > r2 * 1.01f) return kInfinity;
         if (oc2 - tc * tc > r2 * 1.01f + 1e-5f * oc2) return kInfinity;
+        return intersect_t_exact(ray);
+    }
+
+    /// intersect_t without the float rejection: the exact test in double.
+    double intersect_t_exact(const Ray& ray) const {
         const double ox = double(ray.o.x) - center.x, oy = double(ray.o.y) - center.y,
                      oz = double(ray.o.z) - center.z;
         const double dx = ray.d.x, dy = ray.d.y, dz = ray.d.z;

@@ -22,15 +22,14 @@ public:
     void add_sample(int x, int y, const SampledSpectrum& L, const SampledWavelengths& lambda) {
         const std::size_t i = index(x, y);
         ++m_count[i];
-        for (int k = 0; k < kLambdaCount; ++k) {
-            if (!std::isfinite(L[k])) {
-                m_rejected_nonfinite.fetch_add(1, std::memory_order_relaxed);
-                return;
-            }
-            if (L[k] < 0.f) {
-                m_rejected_negative.fetch_add(1, std::memory_order_relaxed);
-                return;
-            }
+        // One test of all four lanes: v − v is 0 for finite v and NaN for ±inf and NaN.
+        const Float4 v = L.lanes();
+        const Int4 nonfinite = (v - v) != 0.f, negative = v < 0.f;
+        if ((nonfinite[0] | nonfinite[1] | nonfinite[2] | nonfinite[3] | negative[0] | negative[1] |
+             negative[2] | negative[3]) != 0) [[unlikely]] {
+            const bool bad = (nonfinite[0] | nonfinite[1] | nonfinite[2] | nonfinite[3]) != 0;
+            (bad ? m_rejected_nonfinite : m_rejected_negative).fetch_add(1, std::memory_order_relaxed);
+            return;
         }
         const Xyz c = Cie1931::get().to_xyz(L, lambda);
         m_xyz[3 * i] += c.x, m_xyz[3 * i + 1] += c.y, m_xyz[3 * i + 2] += c.z;

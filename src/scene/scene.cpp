@@ -130,6 +130,7 @@ void Scene::finalize() {
     m_bvh = Bvh{};
     if (spheres.size() + triangles.size() > kBvhThreshold) m_bvh.build(spheres, triangles);
     m_use_bvh = !m_bvh.empty();
+    m_sphere_lanes.build(m_use_bvh ? std::vector<Sphere>{} : spheres);
 
     // Which effects are called for: only materials that some shape uses count.
     effects = Effects{};

@@ -9,6 +9,7 @@
 #include "geometry/bvh.h"
 #include "geometry/plane.h"
 #include "geometry/sphere.h"
+#include "geometry/sphere_lanes.h"
 #include "geometry/triangle.h"
 #include "render/camera.h"
 #include "render/material.h"
@@ -69,8 +70,9 @@ struct Scene {
             if (const double t = planes[i].intersect_t(ray); t < t_best) t_best = t, best_plane = i;
         // Scenes with a BVH leave here; the hint keeps the small-scene path inlined whole.
         if (m_use_bvh) [[unlikely]] return intersect_bvh(ray, t_best, best_plane);
-        for (const Sphere& sphere : spheres)
-            if (const double t = sphere.intersect_t(ray); t < t_best) t_best = t, best_sphere = &sphere;
+        m_sphere_lanes.candidates(ray, [&](int i) {
+            if (const double t = spheres[i].intersect_t_exact(ray); t < t_best) t_best = t, best_sphere = &spheres[i];
+        });
         const Triangle* best_triangle = nullptr;
         std::optional<TriangleIntersection> best_ti;
         for (const Triangle& tri : triangles)
@@ -87,8 +89,9 @@ struct Scene {
         for (int i : m_general_planes)
             if (planes[i].intersect_t(ray) < ray.t_max) return true;
         if (m_use_bvh) [[unlikely]] return occluded_bvh(ray);
-        for (const Sphere& sphere : spheres)
-            if (sphere.intersect_t(ray) < ray.t_max) return true;
+        bool blocked = false;
+        m_sphere_lanes.candidates(ray, [&](int i) { blocked |= spheres[i].intersect_t_exact(ray) < ray.t_max; });
+        if (blocked) return true;
         for (const Triangle& tri : triangles)
             if (tri.intersect(ray, ray.t_max)) return true;
         return false;
@@ -101,6 +104,7 @@ private:
     [[gnu::noinline]] bool occluded_bvh(const Ray& ray) const;
 
     AxisPlanes m_axis_planes;              ///< built by finalize()
+    SphereLanes m_sphere_lanes;            ///< built by finalize() when there is no BVH
     std::vector<int> m_general_planes;     ///< planes that are not axis-aligned
     Bvh m_bvh;                             ///< over spheres and triangles; empty below the threshold
     bool m_use_bvh = false;                ///< !m_bvh.empty(), in one byte for the hot path

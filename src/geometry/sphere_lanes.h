@@ -1,0 +1,59 @@
+// The spheres of a small scene (no BVH) in groups of four, for the float rejection test of
+// Sphere::intersect_t made on four spheres at once. Most rays miss every sphere; only the
+// spheres that pass (rarely more than one) get the exact double-precision test.
+#pragma once
+#include <vector>
+
+#include "core/simd.h"
+#include "geometry/sphere.h"
+
+namespace spt {
+
+class SphereLanes {
+public:
+    void build(const std::vector<Sphere>& spheres) {
+        m_groups.clear();
+        for (std::size_t i = 0; i < spheres.size(); ++i) {
+            if (i % 4 == 0) m_groups.push_back(Group{});
+            Group& g = m_groups.back();
+            const int k = static_cast<int>(i % 4);
+            const Sphere& s = spheres[i];
+            g.cx[k] = s.center.x, g.cy[k] = s.center.y, g.cz[k] = s.center.z;
+            g.radius[k] = s.radius;
+            g.valid[k] = -1;
+        }
+    }
+
+    /// Calls visit(i) for each sphere i that the float test cannot reject, in index order.
+    template <typename Visit>
+    [[gnu::always_inline]] void candidates(const Ray& ray, Visit&& visit) const {
+        const Float4 ox = splat4(ray.o.x), oy = splat4(ray.o.y), oz = splat4(ray.o.z);
+        const Float4 dx = splat4(ray.d.x), dy = splat4(ray.d.y), dz = splat4(ray.d.z);
+        int base = 0;
+        for (const Group& g : m_groups) {
+            // The same expressions, in the same order, as Sphere::intersect_t.
+            const Float4 ocx = g.cx - ox, ocy = g.cy - oy, ocz = g.cz - oz;
+            const Float4 tc = ocx * dx + ocy * dy + ocz * dz;
+            const Float4 oc2 = ocx * ocx + ocy * ocy + ocz * ocz;
+            const Float4 r2 = g.radius * g.radius;
+            const Int4 behind = (tc < -g.radius) & (oc2 > r2 * 1.01f);
+            const Int4 wide = oc2 - tc * tc > r2 * 1.01f + 1e-5f * oc2;
+            const Int4 pass = g.valid & ~(behind | wide);
+            unsigned bits = (pass[0] & 1u) | (pass[1] & 2u) | (pass[2] & 4u) | (pass[3] & 8u);
+            while (bits != 0) {
+                visit(base + __builtin_ctz(bits));
+                bits &= bits - 1;
+            }
+            base += 4;
+        }
+    }
+
+private:
+    struct Group {
+        Float4 cx{}, cy{}, cz{}, radius{};
+        Int4 valid{};  ///< −1 for real spheres, 0 for padding
+    };
+    std::vector<Group> m_groups;
+};
+
+}  // namespace spt
