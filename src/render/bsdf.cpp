@@ -3,8 +3,6 @@
 // estimator stays unbiased at every wavelength while throughput stays near the albedo.
 #include "render/bsdf.h"
 
-#include "core/frame.h"
-#include "core/sampling.h"
 #include "render/fresnel.h"
 
 namespace spt {
@@ -14,21 +12,6 @@ namespace {
 float live_mean(const SampledSpectrum& s, const SampledWavelengths& lambda) {
     if (lambda.secondary_terminated()) return s[0];
     return s.average();
-}
-
-/// Lambertian lobe chosen with probability p_lobe.
-std::optional<BsdfSample> sample_diffuse(const Material& mat, const Vec3& wo, const Vec3& n,
-                                         const SampledWavelengths& lambda, float u1, float u2,
-                                         float p_lobe) {
-    const float cos_o = dot(wo, n);
-    if (cos_o == 0.f) return std::nullopt;  // exactly tangent: no hemisphere to sample
-    const Vec3 local = sample_cosine_hemisphere(u1, u2);
-    if (!(local.z > 0.f)) return std::nullopt;  // pdf 0 at the horizon
-    BsdfSample bs;
-    bs.wi = Frame(cos_o > 0.f ? n : -n).to_world(local);
-    // f·cos/pdf = (kd/π)·cos/(cos/π) = kd, divided by the lobe probability.
-    bs.weight = mat.kd.sample(lambda) / p_lobe;
-    return bs;
 }
 
 /// Smooth dielectric: reflect with the hero wavelength's Fresnel probability, else refract.
@@ -74,10 +57,8 @@ std::optional<BsdfSample> sample_dielectric(const Material& mat, const Vec3& wo,
 
 }  // namespace
 
-std::optional<BsdfSample> sample_bsdf(const Material& mat, const Vec3& wo, const Vec3& n,
-                                      SampledWavelengths& lambda, float u_lobe, float u1, float u2) {
-    if (dot(wo, n) == 0.f) return std::nullopt;  // exactly tangent: no side to scatter to
-    if (!mat.has_mirror() && !mat.has_transmission()) return sample_diffuse(mat, wo, n, lambda, u1, u2, 1.f);
+std::optional<BsdfSample> sample_bsdf_lobes(const Material& mat, const Vec3& wo, const Vec3& n,
+                                            SampledWavelengths& lambda, float u_lobe, float u1, float u2) {
     const SampledSpectrum kd = mat.kd.sample(lambda);
     const SampledSpectrum ks = mat.ks.sample(lambda);
     const SampledSpectrum kt = mat.kt.sample(lambda);

@@ -3,6 +3,8 @@
 #pragma once
 #include <optional>
 
+#include "core/frame.h"
+#include "core/sampling.h"
 #include "geometry/ray.h"
 #include "render/material.h"
 #include "spectral/sampled.h"
@@ -16,10 +18,34 @@ struct BsdfSample {
     float eta_scale = 1.f;   ///< (η_t/η_i)² on refraction, to undo radiance scaling in roulette
 };
 
+/// Lambertian lobe chosen with probability p_lobe (cos θo ≠ 0 checked by the caller).
+inline std::optional<BsdfSample> sample_diffuse(const Material& mat, const Vec3& wo, const Vec3& n,
+                                                const SampledWavelengths& lambda, float u1, float u2,
+                                                float p_lobe) {
+    const Vec3 local = sample_cosine_hemisphere(u1, u2);
+    if (!(local.z > 0.f)) return std::nullopt;  // pdf 0 at the horizon
+    BsdfSample bs;
+    bs.wi = Frame(dot(wo, n) > 0.f ? n : -n).to_world(local);
+    // f·cos/pdf = (kd/π)·cos/(cos/π) = kd, divided by the lobe probability.
+    bs.weight = mat.kd.sample(lambda);
+    if (p_lobe != 1.f) bs.weight /= p_lobe;
+    return bs;
+}
+
+/// sample_bsdf for materials with more than a diffuse lobe (out of line: the rarer case).
+std::optional<BsdfSample> sample_bsdf_lobes(const Material& mat, const Vec3& wo, const Vec3& n,
+                                            SampledWavelengths& lambda, float u_lobe, float u1, float u2);
+
 /// Samples a lobe, then a direction. May terminate the companion wavelengths (dispersive
 /// refraction). nullopt when the sample carries no energy (absorbed or a degenerate direction).
-std::optional<BsdfSample> sample_bsdf(const Material& mat, const Vec3& wo, const Vec3& n,
-                                      SampledWavelengths& lambda, float u_lobe, float u1, float u2);
+/// Purely diffuse materials (most surfaces) are sampled inline.
+[[gnu::always_inline]] inline std::optional<BsdfSample> sample_bsdf(const Material& mat, const Vec3& wo,
+                                                                   const Vec3& n, SampledWavelengths& lambda,
+                                                                   float u_lobe, float u1, float u2) {
+    if (dot(wo, n) == 0.f) return std::nullopt;  // exactly tangent: no side to scatter to
+    if (!mat.has_mirror() && !mat.has_transmission()) return sample_diffuse(mat, wo, n, lambda, u1, u2, 1.f);
+    return sample_bsdf_lobes(mat, wo, n, lambda, u_lobe, u1, u2);
+}
 
 /// Non-specular part (diffuse) f·|cos θi| for light arriving from wi, for next-event estimation.
 inline SampledSpectrum eval_diffuse_cos(const Material& mat, const Vec3& wo, const Vec3& wi,
