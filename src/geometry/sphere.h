@@ -31,11 +31,11 @@ struct Sphere {
         const double ox = double(ray.o.x) - center.x, oy = double(ray.o.y) - center.y,
                      oz = double(ray.o.z) - center.z;
         const double dx = ray.d.x, dy = ray.d.y, dz = ray.d.z;
-        const double dd = dx * dx + dy * dy + dz * dz;
-        const double t_c = -(ox * dx + oy * dy + oz * dz) / dd;  // closest approach
+        const double inv_dd = 1.0 / (dx * dx + dy * dy + dz * dz);  // one division for both uses
+        const double t_c = -(ox * dx + oy * dy + oz * dz) * inv_dd;  // closest approach
         const double vx = ox + t_c * dx, vy = oy + t_c * dy, vz = oz + t_c * dz;
         const double r = radius;
-        const double disc = (r * r - (vx * vx + vy * vy + vz * vz)) / dd;
+        const double disc = (r * r - (vx * vx + vy * vy + vz * vz)) * inv_dd;
         if (disc < 0.0) return kInfinity;
         const double half = std::sqrt(disc);
         if (t_c - half > 0.0) return t_c - half;

@@ -2,6 +2,8 @@
 // Sphere::intersect_t made on four spheres at once. Most rays miss every sphere; only the
 // spheres that pass (rarely more than one) get the exact double-precision test.
 #pragma once
+#include <bit>
+#include <cstdint>
 #include <vector>
 
 #include "core/simd.h"
@@ -39,6 +41,13 @@ public:
             const Int4 behind = (tc < -g.radius) & (oc2 > r2 * 1.01f);
             const Int4 wide = oc2 - tc * tc > r2 * 1.01f + 1e-5f * oc2;
             const Int4 pass = g.valid & ~(behind | wide);
+            // Most rays pass no sphere: one test of the whole mask (as two 64-bit halves).
+            using Long2 = std::int64_t __attribute__((vector_size(16)));
+            const Long2 halves = std::bit_cast<Long2>(pass);
+            if ((halves[0] | halves[1]) == 0) {
+                base += 4;
+                continue;
+            }
             unsigned bits = (pass[0] & 1u) | (pass[1] & 2u) | (pass[2] & 4u) | (pass[3] & 8u);
             while (bits != 0) {
                 visit(base + __builtin_ctz(bits));
