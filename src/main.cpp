@@ -104,6 +104,7 @@ int run(const spt::Options& opt) {
     rs.integrator.kind = opt.integrator == "bdpt" ? spt::IntegratorKind::bdpt : spt::IntegratorKind::path;
     rs.integrator.wavelengths_per_path = opt.wavelengths_per_path;
     rs.pass_spp = opt.pass_spp;
+    rs.time_limit = opt.time_limit;
 
     std::vector<std::string> outputs = opt.outputs;
     if (outputs.empty()) outputs.push_back(scene->name + ".png");
@@ -171,6 +172,9 @@ int run(const spt::Options& opt) {
                                      ? "exact"
                                      : std::to_string(opt.spectral.bins);
         print_summary(*scene, rs, stats, film, bins);
+        if (stats.time_limited)
+            std::fprintf(stderr, "  stopped by --time-limit %g s after %d of %d spp\n", opt.time_limit,
+                         stats.samples_completed, rs.spp);
         for (const std::string& path : outputs) std::fprintf(stderr, "  wrote %s\n", path.c_str());
     }
     if (stats.cancelled) {

@@ -178,6 +178,9 @@ TEST_F(Cli, BadArgumentsExitTwoWithOneLineNamingTheFlag) {
         {{"--pass-spp", "0"}, {"--pass-spp"}},
         {{"--checkpoint-interval", "-1"}, {"--checkpoint-interval"}},
         {{"--checkpoint", ""}, {"--checkpoint"}},
+        {{"--time-limit", "0"}, {"--time-limit"}},
+        {{"--time-limit", "-5"}, {"--time-limit"}},
+        {{"--time-limit", "soon"}, {"--time-limit", "soon"}},
         {{"--spp"}, {"--spp"}},  // missing value at the end
         {{"-o"}, {"-o"}},
         {{"--spectral-bins"}, {"--spectral-bins"}},
@@ -327,6 +330,25 @@ TEST_F(Cli, ExistingOutputIsReplacedOnSuccess) {
     EXPECT_EQ(r.exit_code, 0) << r.err;
     EXPECT_EQ(read_file(m_dir / "x.pfm").substr(0, 3), "PF\n");
     EXPECT_EQ(files(), std::set<std::string>{"x.pfm"}) << "no temporary file may remain";
+}
+
+/// --time-limit stops at a pass boundary (not at --spp), writes the image of the passes done
+/// and says so; the image equals a render asked for that many spp. (How close to the limit
+/// it ends depends on the machine's load: not asserted.)
+TEST_F(Cli, TimeLimitStopsAtAPassBoundary) {
+    const RunResult r = run({"--width", "32", "--height", "32", "--spp", "1000000", "--pass-spp", "1",
+                             "--time-limit", "1", "--seed", "4", "-o", "t.pfm"});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const std::string marker = "stopped by --time-limit 1 s after ";
+    const auto at = r.err.find(marker);
+    ASSERT_NE(at, std::string::npos) << r.err;
+    const int spp = std::stoi(r.err.substr(at + marker.size()));
+    EXPECT_GT(spp, 0);
+    EXPECT_LT(spp, 1000000);
+    const RunResult same = run({"--width", "32", "--height", "32", "--spp", std::to_string(spp), "--seed",
+                                "4", "--quiet", "-o", "u.pfm"});
+    ASSERT_EQ(same.exit_code, 0) << same.err;
+    EXPECT_EQ(read_file(m_dir / "t.pfm"), read_file(m_dir / "u.pfm"));
 }
 
 /// Same seed: identical bytes for any thread count; another seed: different bytes.

@@ -62,6 +62,9 @@ Options:
   --integrator NAME      path (default: unidirectional path tracing) or bdpt
                          (bidirectional: light and camera subpaths combined by MIS)
   --max-depth D          maximum scattering events per path (0 to 100000; default unbounded)
+  --time-limit SECONDS   render whole passes until the next one would end after SECONDS
+                         (at least one pass); --spp is then the most it renders. For
+                         equal-time comparisons: add --pass-spp 1 for a fine granularity
   --checkpoint FILE      save the render state to FILE (atomically) after a whole pass once
                          --checkpoint-interval seconds have passed, and at exit
   --checkpoint-interval SECONDS   0 to 1e6 (default 300)
@@ -158,6 +161,9 @@ Options parse_options(const std::vector<std::string>& args) {
         } else if (flag == "--checkpoint-interval") {
             o.checkpoint_interval =
                 parse_real(flag, next_value(), 0, 1e6, "a number of seconds from 0 to 1000000");
+        } else if (flag == "--time-limit") {
+            o.time_limit = parse_real(flag, next_value(), 0.001, 1e7,
+                                      "a number of seconds from 0.001 to 10000000");
         } else if (flag == "--wavelengths-per-path") {
             const std::string v = next_value();
             if (v != "1" && v != "4")

@@ -32,6 +32,7 @@ struct Options {
     int pass_spp = 0;  ///< samples per pass (0: automatic); does not change the image
     double exposure = 0.0;
     std::string checkpoint;            ///< save the film state here (empty: never)
+    double time_limit = 0;  ///< seconds (0: none): no pass is started that would end later
     double checkpoint_interval = 300;  ///< seconds between checkpoints (after a whole pass)
     std::string resume;                ///< continue the render saved in this checkpoint
     bool quiet = false;

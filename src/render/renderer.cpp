@@ -209,7 +209,16 @@ RenderStats render(const Scene& scene, const RenderSettings& settings, Film& fil
 
     // Producer: one pass at a time, so a pixel never gets samples out of order.
     const int ts = settings.tile_size;
+    double last_pass_seconds = 0;
     for (int first = first_sample; first < settings.spp && !cancelled(); first += pass_spp) {
+        const auto pass_start = std::chrono::steady_clock::now();
+        if (settings.time_limit > 0 && first > first_sample) {
+            const double elapsed = std::chrono::duration<double>(pass_start - start).count();
+            if (elapsed + last_pass_seconds > settings.time_limit) {
+                stats.time_limited = true;
+                break;
+            }
+        }
         const int end = std::min(settings.spp, first + pass_spp);
         latch.reset();
         int tiles = 0;
@@ -225,6 +234,7 @@ RenderStats render(const Scene& scene, const RenderSettings& settings, Film& fil
         ++stats.passes_completed;
         stats.samples_completed = end;
         if (hooks.pass_completed) hooks.pass_completed(end);
+        last_pass_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - pass_start).count();
     }
     queue.close();
     for (std::thread& w : workers) w.join();

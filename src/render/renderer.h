@@ -19,6 +19,9 @@ struct RenderSettings {
     int tile_size = 32;
     int pass_spp = 0;           ///< samples per pass; 0: chosen automatically
     int first_sample = 0;       ///< samples per pixel already in the film (resuming)
+    /// Seconds (0: no limit): a pass is not started if, at the pace of the previous one, it
+    /// would end after this. The first pass always runs, so the image has samples.
+    double time_limit = 0;
     IntegratorSettings integrator;
 };
 
@@ -33,6 +36,7 @@ struct RenderStats {
     int passes_total = 0;       ///< passes this run set out to render
     int samples_completed = 0;  ///< samples per pixel in the film after the last whole pass
     bool cancelled = false;
+    bool time_limited = false;  ///< stopped before spp by RenderSettings::time_limit
 };
 
 /// Called by the rendering thread about five times a second: (paths done, paths in total).
