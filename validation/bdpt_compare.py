@@ -2,7 +2,7 @@
 """Equal-time comparison of the path tracer and bdpt (issue 7).
 
 For each scene named on the command line: a long bdpt reference (cached in build/), then each
-integrator for about --seconds seconds (spp from a short calibration run), relative MSE
+integrator for --seconds seconds (the program's --time-limit, in 1-spp passes), relative MSE
 against the reference, side-by-side PNGs in validation/results/ and a markdown table.
 
     python3 validation/bdpt_compare.py prism glass-spheres [--seconds 60] [--size 512]
@@ -12,6 +12,7 @@ Needs numpy and the built program (build/pathtracer).
 """
 import argparse
 import os
+import re
 import subprocess
 import sys
 import time
@@ -40,6 +41,18 @@ def render(scene, integrator, size, spp, out, threads, seed=0):
     start = time.monotonic()
     subprocess.run(cmd, check=True)
     return time.monotonic() - start
+
+
+def render_for(scene, integrator, size, seconds, out, threads, seed=0):
+    """Renders whole 1-spp passes until the next would end after `seconds` (--time-limit);
+    returns (spp, render seconds) as the program reports them."""
+    cmd = [EXE, scene, "--integrator", integrator, "--width", str(size), "--height", str(size),
+           "--spp", "1000000", "--pass-spp", "1", "--time-limit", str(seconds),
+           "--threads", str(threads), "--seed", str(seed), "-o", out]
+    err = subprocess.run(cmd, check=True, capture_output=True, text=True).stderr
+    spp = int(re.search(r"stopped by --time-limit \S+ s after (\d+) of", err).group(1))
+    secs = float(re.search(r"time ([0-9.]+) s", err).group(1))
+    return spp, secs
 
 
 def rel_mse(x, ref):
@@ -78,22 +91,18 @@ def main():
     rows = []
     for scene in args.scenes:
         name = os.path.splitext(os.path.basename(scene))[0]
-        spp_rate = {}
-        for integ in ("path", "bdpt"):  # calibration: spp per second
-            tmp = os.path.join(CACHE, f"{name}_{integ}_calib.pfm")
-            t = render(scene, integ, args.size, 4, tmp, args.threads, seed=99)
-            spp_rate[integ] = 4 / t
         ref_path = os.path.join(CACHE, f"{name}_{args.size}_ref.pfm")
         if not os.path.exists(ref_path):
-            spp = max(16, int(spp_rate["bdpt"] * args.reference_seconds))
+            tmp = os.path.join(CACHE, f"{name}_bdpt_calib.pfm")  # calibration: spp per second
+            spp = max(16, int(4 / render(scene, "bdpt", args.size, 4, tmp, args.threads, seed=99)
+                              * args.reference_seconds))
             print(f"{name}: reference, bdpt {spp} spp", file=sys.stderr)
             render(scene, "bdpt", args.size, spp, ref_path, args.threads, seed=12345)
         ref = read_pfm(ref_path)
         images, result = {}, {}
         for integ in ("path", "bdpt"):
-            spp = max(1, int(spp_rate[integ] * args.seconds))
             out = os.path.join(CACHE, f"{name}_{integ}.pfm")
-            t = render(scene, integ, args.size, spp, out, args.threads, seed=1)
+            spp, t = render_for(scene, integ, args.size, args.seconds, out, args.threads, seed=1)
             images[integ] = read_pfm(out)
             result[integ] = (spp, t, rel_mse(images[integ], ref))
         ratio = result["path"][2] / result["bdpt"][2]
