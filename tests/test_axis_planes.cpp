@@ -2,11 +2,13 @@
 // per axis) against a plain loop over the same planes in order, coincident planes included.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <vector>
 
 #include "core/rng.h"
 #include "core/sampling.h"
 #include "geometry/axis_planes.h"
+#include "geometry/plane.h"
 
 namespace {
 
@@ -73,6 +75,34 @@ TEST(AxisPlanes, CoincidentPlanesResolveToTheLowerIndex) {
     planes.nearest(ray, t, best);
     EXPECT_EQ(best, -1);
     EXPECT_EQ(t, double(spt::kInfinity));
+}
+
+}  // namespace
+
+namespace {
+
+/// The shortcut for axis-aligned planes gives the same hit record as the general projection.
+TEST(AxisPlanes, AxisHitEqualsTheGeneralProjection) {
+    spt::Rng rng(5, 0, 0);
+    for (int k = 0; k < 20000; ++k) {
+        const int axis = static_cast<int>(rng.uniform() * 3);
+        spt::Plane plane;
+        plane.normal = {0, 0, 0};
+        plane.normal[axis] = rng.uniform() < 0.5f ? 1.f : -1.f;
+        plane.offset = (rng.uniform() - 0.5f) * std::pow(10.f, 8 * rng.uniform() - 4);
+        plane.material = 0;
+        spt::Ray ray;
+        ray.o = {rng.uniform() - 0.5f, rng.uniform() - 0.5f, rng.uniform() - 0.5f};
+        ray.o = ray.o * std::pow(10.f, 8 * rng.uniform() - 4);
+        ray.d = spt::sample_uniform_sphere(rng.uniform(), rng.uniform());
+        const double t = plane.intersect_t(ray);
+        if (!(t < spt::kInfinity)) continue;
+        const spt::Hit a = plane.make_axis_hit(ray, t, axis), b = plane.make_hit(ray, t);
+        ASSERT_EQ(a.p, b.p) << k;
+        ASSERT_EQ(a.p_err, b.p_err) << k;
+        ASSERT_EQ(a.n, b.n) << k;
+        ASSERT_EQ(a.t, b.t) << k;
+    }
 }
 
 }  // namespace

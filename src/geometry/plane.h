@@ -22,6 +22,20 @@ struct Plane {
         return t > 0.0 ? t : kInfinity;
     }
 
+    /// make_hit for a plane whose normal is ±axis: the point's coordinate on that axis is the
+    /// plane's exactly (what the projection below gives), the other two are o + t·d.
+    Hit make_axis_hit(const Ray& ray, double t, int axis) const {
+        double p[3] = {ray.o.x + t * ray.d.x, ray.o.y + t * ray.d.y, ray.o.z + t * ray.d.z};
+        p[axis] = double(offset) * normal[axis];
+        Hit hit;
+        hit.t = static_cast<float>(t);
+        hit.p = {static_cast<float>(p[0]), static_cast<float>(p[1]), static_cast<float>(p[2])};
+        hit.p_err = rounded_point_error(hit.p);
+        hit.n = normal;
+        hit.material = material;
+        return hit;
+    }
+
     Hit make_hit(const Ray& ray, double t) const {
         const double nx = normal.x, ny = normal.y, nz = normal.z;
         double px = ray.o.x + t * ray.d.x, py = ray.o.y + t * ray.d.y, pz = ray.o.z + t * ray.d.z;

@@ -116,12 +116,14 @@ void Scene::finalize() {
     // Split planes for intersection: axis-aligned ones take the fast path.
     m_axis_planes.clear();
     m_general_planes.clear();
+    m_plane_axis.assign(planes.size(), -1);
     for (int i = 0; i < static_cast<int>(planes.size()); ++i) {
         const Plane& p = planes[i];
         int axis = -1;
         // Only exactly axis-aligned normals: a tiny tilt can round a component to 1.
         for (int a = 0; a < 3; ++a)
             if (p.normal[(a + 1) % 3] == 0.f && p.normal[(a + 2) % 3] == 0.f) axis = a;
+        m_plane_axis[i] = static_cast<signed char>(axis);
         if (axis >= 0) m_axis_planes.add(axis, double(p.normal[axis]) * p.offset, i);
         else m_general_planes.push_back(i);
     }

@@ -79,7 +79,11 @@ struct Scene {
             if (auto ti = tri.intersect(ray, t_best)) t_best = ti->t, best_triangle = &tri, best_ti = ti;
         if (best_triangle) return best_triangle->make_hit(*best_ti);
         if (best_sphere) return best_sphere->make_hit(ray, t_best);
-        if (best_plane >= 0) return planes[best_plane].make_hit(ray, t_best);
+        if (best_plane >= 0) {
+            const int axis = m_plane_axis[best_plane];
+            return axis >= 0 ? planes[best_plane].make_axis_hit(ray, t_best, axis)
+                             : planes[best_plane].make_hit(ray, t_best);
+        }
         return std::nullopt;
     }
 
@@ -106,6 +110,7 @@ private:
     AxisPlanes m_axis_planes;              ///< built by finalize()
     SphereLanes m_sphere_lanes;            ///< built by finalize() when there is no BVH
     std::vector<int> m_general_planes;     ///< planes that are not axis-aligned
+    std::vector<signed char> m_plane_axis;  ///< per plane: its normal's axis, −1 if tilted
     Bvh m_bvh;                             ///< over spheres and triangles; empty below the threshold
     bool m_use_bvh = false;                ///< !m_bvh.empty(), in one byte for the hot path
 };
