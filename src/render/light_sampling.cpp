@@ -19,8 +19,8 @@ float mean_value(const Spectrum& s) {
 
 float triangle_area(const Triangle& t) { return 0.5f * length(cross(t.p1 - t.p0, t.p2 - t.p0)); }
 
-/// Box around everything bounded the environment's light must reach: the finite shapes, the
-/// camera (the region it sees nearby) and the point lights. Planes are unbounded (see the header).
+/// Box around what the environment's light subpaths should reach: the finite shapes, the camera
+/// and the point lights. Planes are unbounded (see the header).
 Aabb scene_bounds(const Scene& scene) {
     Aabb box;
     for (const Sphere& s : scene.spheres) {

@@ -19,8 +19,10 @@
 // has the area density (1/(πR²))·|cos θx| (environment_position_pdf times the cosine at x),
 // with no 1/r² (pbrt-v3's InfiniteLightDensity and PdfLight).
 //
-// The bounding sphere covers the finite shapes, the camera and the point lights; infinite
-// planes are unbounded and cannot be covered. This stays unbiased everywhere:
+// The bounding sphere covers the finite shapes, the camera and the point lights (so that what
+// the camera sees around itself, on planes too, is reached by light subpaths: efficiency, not
+// correctness); infinite planes are unbounded and cannot be covered. This stays unbiased
+// everywhere:
 //   - a ray from the disk stands for the light arriving from infinity along its line. Only an
 //     unbounded plane can cross the line upstream of the disk (outside the sphere); then that
 //     light never arrives, and sample() flags the origin `blocked` (no subpath from it);
