@@ -667,3 +667,144 @@ TEST(LightSamplingNegativeControl, RejectsTriangleWarpWithoutSquareRoot) {
     EXPECT_LT(rs.p_value, kAlpha) << "X2=" << rs.statistic;
     std::printf("[ stats    ] controls (triangle no-sqrt, sphere uniform-theta): p=%.3g, %.3g\n", r.p_value, rs.p_value);
 }
+
+// ---------------------------------------------------------------- the constant environment
+
+namespace {
+
+/// A point light, a diffuse sphere, the camera and a floor plane y = −1 under a constant
+/// environment: the environment's disk is aimed at the bounding sphere of the sphere, the
+/// camera and the point light (computed here), and the floor hides part of it upstream.
+struct EnvironmentScene {
+    spt::Scene scene;
+    D3 centre{};
+    double radius = 0, p_environment = 0;
+    static constexpr double kLe = 0.5, kIntensity = 2.0;
+
+    EnvironmentScene() {
+        spt::Material white;
+        white.name = "white";
+        white.kd = exact(spt::SpectrumSource::constant(0.7));
+        const int m = scene.add_material(white);
+        scene.spheres.push_back({spt::Vec3(0.5f, 0.f, -0.5f), 0.8f, m});
+        scene.planes.push_back({spt::Vec3(0.f, 1.f, 0.f), -1.f, m});
+        scene.point_lights.push_back({spt::Vec3(-1.f, 1.5f, 0.f), exact(spt::SpectrumSource::constant(kIntensity))});
+        scene.camera.position = spt::Vec3(0.f, 0.5f, 3.f);
+        scene.background = exact(spt::SpectrumSource::constant(kLe));
+        scene.finalize();
+        // Box: x ∈ [−1, 1.3], y ∈ [−0.8, 1.5], z ∈ [−1.3, 3].
+        const D3 lo{-1.0, -0.8, -1.3}, hi{1.3, 1.5, 3.0};
+        centre = scaled(D3{lo.x + hi.x, lo.y + hi.y, lo.z + hi.z}, 0.5);
+        radius = 0.5 * lend(sub(hi, lo));
+        const double p_env = 4.0 * kPiD * kPiD * radius * radius * kLe, p_point = 4.0 * kPiD * kIntensity;
+        p_environment = p_env / (p_env + p_point);
+    }
+};
+
+}  // namespace
+
+TEST(LightSampling, EnvironmentDirectionsDiskAndDensities) {
+    // 400k samples: the environment chosen ∝ 4π·πR²·Le against 4π·I; its directions uniform
+    // (20 z × 36 φ equal-area cells), its points uniform on the disk of radius R one radius
+    // upstream of the centre (10 r² × 24 φ equal-area cells), the densities those of the
+    // header, and `blocked` exactly when the floor crosses the ray upstream of the disk.
+    const EnvironmentScene es;
+    const spt::LightSampler sampler(es.scene);
+    ASSERT_TRUE(sampler.has_environment());
+    EXPECT_NEAR(sampler.environment_pdf(), es.p_environment / (4.0 * kPiD), 1e-5 * sampler.environment_pdf());
+    const spt::SampledWavelengths lambda = spt::SampledWavelengths::sample(0.61f);
+    Uniform rng(5);
+    constexpr int kN = 400000;
+    SphereHistogram directions;
+    constexpr int kR = 10, kPhi = 24;
+    std::vector<double> disk(kR * kPhi, 0.0);
+    double environment = 0;
+    int blocked = 0;
+    for (int i = 0; i < kN; ++i) {
+        float u[6];
+        for (float& x : u) x = rng.next_float();
+        const std::optional<spt::LightOrigin> o = sampler.sample(lambda, u[0], u[1], u[2], u[3], u[4], u[5]);
+        ASSERT_TRUE(o.has_value());
+        if (!o->environment) {
+            ASSERT_TRUE(o->delta_position);
+            continue;
+        }
+        ++environment;
+        const D3 w = d3(o->w), p = d3(o->p);
+        ASSERT_NEAR(lend(w), 1.0, 1e-5);
+        for (int k = 0; k < spt::kLambdaCount; ++k) ASSERT_EQ(o->Le[k], float(EnvironmentScene::kLe));
+        ASSERT_NEAR(o->pdf_dir, es.p_environment / (4.0 * kPiD), 1e-5 * o->pdf_dir);
+        ASSERT_NEAR(o->pdf_pos, 1.0 / (kPiD * es.radius * es.radius), 1e-5 * o->pdf_pos);
+        // On the disk: in the plane one radius upstream of the centre, within R of its middle.
+        const D3 v = sub(p, es.centre);
+        const double along = dotd(v, w);
+        ASSERT_NEAR(along, -es.radius, 1e-5 * es.radius);
+        const D3 across = sub(v, scaled(w, along));
+        const double r2 = dotd(across, across) / (es.radius * es.radius);
+        ASSERT_LE(r2, 1.0 + 1e-5);
+        directions.add(w.z, azimuth(w.x, w.y));
+        const OwnFrame f(o->w);
+        const int ir = std::min(kR - 1, static_cast<int>(r2 * kR));
+        const int iphi = std::min(kPhi - 1, static_cast<int>(f.phi(spt::Vec3(float(across.x), float(across.y), float(across.z))) / (2.0 * kPiD) * kPhi));
+        disk[ir * kPhi + iphi] += 1.0;
+        // Upstream of p (towards −w) the floor y = −1 is crossed iff it lies that way.
+        const double t = (-1.0 - p.y) / -w.y;
+        ASSERT_EQ(o->blocked, t > 0.0) << "p.y = " << p.y << ", w.y = " << w.y;
+        blocked += o->blocked;
+        // The disk's density reaches every point downstream inside the cylinder, none upstream.
+        const spt::Vec3 inside = o->p + o->w * float(1.7 * es.radius);
+        EXPECT_EQ(sampler.environment_position_pdf(inside, o->w), o->pdf_pos);
+        EXPECT_EQ(sampler.environment_position_pdf(o->p - o->w * float(0.1 * es.radius), o->w), 0.f);
+    }
+    const double z = (environment - kN * es.p_environment) / std::sqrt(kN * es.p_environment * (1 - es.p_environment));
+    EXPECT_LT(std::fabs(z), 4.0) << environment << " environment samples, expected " << kN * es.p_environment;
+    EXPECT_GT(blocked, 0.2 * environment);
+    const spt_test::Chi2Result rd = spt_test::chi2_test(directions.counts, directions.uniform_expected());
+    const spt_test::Chi2Result rp = spt_test::chi2_test(disk, std::vector<double>(disk.size(), environment / disk.size()));
+    EXPECT_GE(rd.p_value, sidak(2)) << "directions X2=" << rd.statistic;
+    EXPECT_GE(rp.p_value, sidak(2)) << "disk X2=" << rp.statistic;
+    std::printf("[ stats    ] environment: chosen %.0f of %d (z = %.2f), %d blocked; directions X2=%.1f p=%.4f; "
+                "disk X2=%.1f p=%.4f\n", environment, kN, z, blocked, rd.statistic, rd.p_value, rp.statistic,
+                rp.p_value);
+
+    // Points outside the cylinder of the disk are out of reach.
+    const spt::Vec3 d(0.f, 0.f, -1.f);
+    const spt::Vec3 c(float(es.centre.x), float(es.centre.y), float(es.centre.z));
+    EXPECT_GT(sampler.environment_position_pdf(c + spt::Vec3(float(0.99 * es.radius), 0.f, -5.f), d), 0.f);
+    EXPECT_EQ(sampler.environment_position_pdf(c + spt::Vec3(float(1.01 * es.radius), 0.f, 0.f), d), 0.f);
+}
+
+TEST(LightSampling, NoEnvironmentWithoutBackground) {
+    // The same scene with a black background: no environment entry, nothing to pay.
+    EnvironmentScene es;
+    es.scene.background = exact(spt::SpectrumSource::constant(0.0));
+    es.scene.finalize();
+    const spt::LightSampler sampler(es.scene);
+    EXPECT_FALSE(sampler.has_environment());
+    EXPECT_EQ(sampler.environment_pdf(), 0.f);
+    const spt::SampledWavelengths lambda = spt::SampledWavelengths::sample(0.5f);
+    Uniform rng(6);
+    for (int i = 0; i < 1000; ++i) {
+        const std::optional<spt::LightOrigin> o = sampler.sample(lambda, rng.next_float(), rng.next_float(),
+                                                                 rng.next_float(), rng.next_float(),
+                                                                 rng.next_float(), rng.next_float());
+        ASSERT_TRUE(o.has_value());
+        ASSERT_FALSE(o->environment);
+        ASSERT_NEAR(o->pdf_pos, 1.f, 1e-6f);  // the point light is the only light
+    }
+}
+
+TEST(LightSamplingNegativeControl, RejectsDiskWithoutSquareRoot) {
+    // Planted bug: disk radius R·u instead of R·√u (points crowd the middle). The equal-area
+    // r² × φ histogram must reject it at the environment test's sample size (~360k).
+    std::vector<double> disk(10 * 24, 0.0);
+    Uniform rng(7);
+    constexpr int kN = 360000;
+    for (int i = 0; i < kN; ++i) {
+        const double r = rng.next_double(), phi = 2 * kPiD * rng.next_double();
+        disk[std::min(9, static_cast<int>(r * r * 10)) * 24 + std::min(23, static_cast<int>(phi / (2 * kPiD) * 24))] += 1;
+    }
+    const spt_test::Chi2Result r = spt_test::chi2_test(disk, std::vector<double>(disk.size(), double(kN) / disk.size()));
+    EXPECT_LT(r.p_value, kAlpha) << "X2=" << r.statistic;
+    std::printf("[ stats    ] control (disk without square root): X2=%.1f p=%.3g\n", r.statistic, r.p_value);
+}

@@ -170,4 +170,35 @@ inline int count_bad_pixels(const Film& film) {
     return bad;
 }
 
+/// Per-pixel comparison of two independent renders: z = |a − b|/√(σa² + σb²).
+struct Comparison {
+    double max_z = 0;
+    int worst_x = -1, worst_y = -1;
+    double mean_a = 0, mean_b = 0, se = 0;  ///< over the compared pixels
+    int pixels = 0;
+};
+template <typename Mask>
+inline Comparison compare(const Film& a, const Film& b, Mask include) {
+    Comparison c;
+    double var = 0;
+    for (int y = 0; y < a.height(); ++y)
+        for (int x = 0; x < a.width(); ++x) {
+            if (!include(x, y)) continue;
+            const double va = a.pixel_xyz(x, y).y, vb = b.pixel_xyz(x, y).y;
+            const double sa = a.pixel_y_standard_error(x, y), sb = b.pixel_y_standard_error(x, y);
+            const double s2 = sa * sa + sb * sb;
+            const double z = s2 > 0 ? std::fabs(va - vb) / std::sqrt(s2) : (va == vb ? 0.0 : 1e30);
+            if (z > c.max_z) c.max_z = z, c.worst_x = x, c.worst_y = y;
+            c.mean_a += va, c.mean_b += vb, var += s2;
+            ++c.pixels;
+        }
+    c.mean_a /= c.pixels, c.mean_b /= c.pixels, c.se = std::sqrt(var) / c.pixels;
+    return c;
+}
+inline std::string describe(const Comparison& c) {
+    return "worst pixel (" + std::to_string(c.worst_x) + ", " + std::to_string(c.worst_y) +
+           ") z = " + std::to_string(c.max_z) + "; means " + std::to_string(c.mean_a) + " vs " +
+           std::to_string(c.mean_b) + " ± " + std::to_string(c.se) + " over " + std::to_string(c.pixels) + " pixels";
+}
+
 }  // namespace spt::test

@@ -22,13 +22,28 @@ struct Vertex {
     bool delta = false;          ///< a specular lobe was sampled here
     bool delta_light = false;    ///< point light origin (delta position)
     bool terminated = false;     ///< a dispersive refraction happened before this vertex
+    /// The environment (a light vertex at infinity, measured by direction): `dir` is the unit
+    /// direction from the scene towards it, and hit.p is not used.
+    bool infinite = false;
+    Vec3 dir;
 
     const Vec3& p() const { return hit.p; }
     bool on_surface() const { return hit.n.x != 0.f || hit.n.y != 0.f || hit.n.z != 0.f; }
 };
 
-/// Solid-angle density at `from` turned into area density at `to`.
+/// Unit direction from one vertex towards another (a vertex at infinity is a direction).
+Vec3 direction(const Vertex& from, const Vertex& to) {
+    if (to.infinite) return to.dir;
+    if (from.infinite) return -from.dir;
+    return normalize(to.p() - from.p());
+}
+
+/// Solid-angle density at `from` turned into area density at `to`. The environment is
+/// measured by direction: towards it the solid-angle density stays as it is, and from it the
+/// density is planar (its disk, light_sampling.h), turned into area by the cosine at `to` only.
 float convert_density(float pdf, const Vertex& from, const Vertex& to) {
+    if (to.infinite) return pdf;
+    if (from.infinite) return to.on_surface() ? pdf * std::fabs(dot(to.hit.n, from.dir)) : pdf;
     const Vec3 w = to.p() - from.p();
     const float d2 = length_squared(w);
     if (!(d2 > 0.f)) return 0.f;
@@ -65,11 +80,12 @@ private:
     PathStats& m_stats;
     float m_hero;
     std::vector<Vertex>& m_light;   ///< light subpath: the origin, then surface vertices
-    std::vector<Vertex>& m_camera;  ///< camera subpath: the pinhole, then surface vertices
-    SampledSpectrum m_escaped;      ///< camera throughput of the ray that left the scene
-    bool m_escaped_terminated = false;
+    std::vector<Vertex>& m_camera;  ///< camera subpath: the pinhole, surface vertices, and the
+                                    ///< environment when the last ray escaped
 };
 
+/// Extends `path` from its last vertex along `ray`. pdf_dir is the density of the ray's
+/// direction in solid angle, or planar (the disk) when the path starts at the environment.
 void Bdpt::random_walk(Ray ray, SampledSpectrum beta, float pdf_dir, int max_vertices, Transport mode,
                        SampledWavelengths& lambda, std::vector<Vertex>& path) {
     const IntegratorSettings& settings = m_ctx.settings;
@@ -80,9 +96,16 @@ void Bdpt::random_walk(Ray ray, SampledSpectrum beta, float pdf_dir, int max_ver
         ++m_stats.rays;
         const std::optional<Hit> hit = m_scene.intersect(ray);
         if (!hit) {
-            if (mode == Transport::radiance) {
-                m_escaped = beta;
-                m_escaped_terminated = lambda.secondary_terminated();
+            // A camera path that escapes ends on the environment, a light vertex at infinity.
+            if (mode == Transport::radiance && m_scene.effects.background) {
+                Vertex env;
+                env.type = VertexType::light;
+                env.infinite = true;
+                env.dir = ray.d;
+                env.beta = beta;
+                env.terminated = lambda.secondary_terminated();
+                env.pdf_fwd = pdf_fwd;  // solid angle (convert_density keeps it)
+                path.push_back(env);
             }
             break;
         }
@@ -129,6 +152,8 @@ SampledSpectrum Bdpt::f(const Vertex& v, const Vec3& wi, const SampledWavelength
 }
 
 float Bdpt::light_direction_pdf(const Vertex& light, const Vertex& next) const {
+    if (light.infinite)  // the disk point on the ray that reaches `next`
+        return convert_density(m_ctx.lights.environment_position_pdf(next.p(), -light.dir), light, next);
     const Vec3 w = normalize(next.p() - light.p());
     const float pdf_dir = light.on_surface() ? LightSampler::direction_pdf(light.hit.n, w) : 1.f / (4.f * kPi);
     return convert_density(pdf_dir, light, next);
@@ -136,19 +161,21 @@ float Bdpt::light_direction_pdf(const Vertex& light, const Vertex& next) const {
 
 float Bdpt::pdf(const Vertex& v, const Vertex* prev, const Vertex& next) const {
     if (v.type == VertexType::light) return light_direction_pdf(v, next);
-    const Vec3 wn = normalize(next.p() - v.p());
+    const Vec3 wn = direction(v, next);
     if (v.type == VertexType::camera) {
         float x, y;
         if (!m_ctx.camera.raster_position(wn, x, y)) return 0.f;
         return convert_density(m_ctx.camera.direction_pdf(dot(wn, m_ctx.camera.forward())), v, next);
     }
-    const Vec3 wp = normalize(prev->p() - v.p());
+    const Vec3 wp = direction(v, *prev);
     return convert_density(mis_pdf(m_scene.materials[v.hit.material], wp, wn, v.hit.n, m_hero), v, next);
 }
 
 /// Balance heuristic over all (s', t') with s' + t' = s + t, by walking the path with the
 /// ratios of reverse to forward densities (pbrt-v3 MISWeight). Zero densities of delta
-/// vertices are mapped to 1 and those strategies skipped.
+/// vertices are mapped to 1 and those strategies skipped. A camera vertex next to the
+/// environment that its disk cannot reach (environment_position_pdf 0) is a true zero: no
+/// strategy whose light subpath includes it exists, and the walk stops before it.
 float Bdpt::mis_weight(int s, int t) {
     if (s + t == 2) return 1.f;
     Vertex* qs = s > 0 ? &m_light[s - 1] : nullptr;
@@ -167,14 +194,17 @@ float Bdpt::mis_weight(int s, int t) {
         if (qs_minus) qs_minus->pdf_rev = pdf(*qs, pt, *qs_minus);
         qs->delta = false;
     } else {
-        pt->pdf_rev = m_ctx.lights.origin_pdf(pt->hit);
+        pt->pdf_rev = pt->infinite ? m_ctx.lights.environment_pdf() : m_ctx.lights.origin_pdf(pt->hit);
         if (pt_minus) pt_minus->pdf_rev = light_direction_pdf(*pt, *pt_minus);
     }
     pt->delta = false;
+    int camera_stop = 0;  // camera vertices i > camera_stop may belong to the light subpath
+    if (s == 0 && pt->infinite && pt_minus && pt_minus->pdf_rev == 0.f) camera_stop = t - 2;
+    if (s == 1 && qs->infinite && pt->pdf_rev == 0.f) camera_stop = t - 1;
 
     auto remap0 = [](float x) { return x != 0.f ? x : 1.f; };
     float sum_ri = 0.f, ri = 1.f;
-    for (int i = t - 1; i > 0; --i) {
+    for (int i = t - 1; i > camera_stop; --i) {
         ri *= remap0(m_camera[i].pdf_rev) / remap0(m_camera[i].pdf_fwd);
         if (!m_camera[i].delta && !m_camera[i - 1].delta) sum_ri += ri;
     }
@@ -211,7 +241,6 @@ SampledSpectrum Bdpt::run(const Ray& camera_ray, std::vector<Splat>& splats) {
     SampledWavelengths lambda_light = m_lambda, lambda_camera = m_lambda;
     m_light.clear();
     m_camera.clear();
-    m_escaped = SampledSpectrum(0.f);
 
     // ---- Light subpath (importance transport), traced first ----
     const float ul = m_rng.uniform(), ul1 = m_rng.uniform(), ul2 = m_rng.uniform(),
@@ -219,17 +248,30 @@ SampledSpectrum Bdpt::run(const Ray& camera_ray, std::vector<Splat>& splats) {
     if (const std::optional<LightOrigin> o = m_ctx.lights.sample(lambda_light, ul, ul1, ul2, ul3, ul4, ul5)) {
         Vertex v;
         v.type = VertexType::light;
-        v.hit.p = o->p;
-        v.hit.p_err = o->p_err;
-        v.hit.n = o->n;
-        v.beta = o->Le / o->pdf_pos;
-        v.pdf_fwd = o->pdf_pos;
-        v.delta_light = o->delta_position;
-        m_light.push_back(v);
-        const float cos_o = o->delta_position ? 1.f : std::fabs(dot(o->n, o->w));
-        const SampledSpectrum beta = o->Le * (cos_o / (o->pdf_pos * o->pdf_dir));
-        const Ray ray{offset_ray_origin(o->p, o->p_err, o->n, o->w), o->w, kInfinity};
-        random_walk(ray, beta, o->pdf_dir, max_depth + 1, Transport::importance, lambda_light, m_light);
+        if (o->environment) {
+            // The origin is the direction (pdf_dir, choice included); the disk point only
+            // starts the walk, its planar density pdf_pos going to the first hit (pbrt-v3).
+            v.infinite = true;
+            v.dir = -o->w;
+            v.beta = o->Le / o->pdf_dir;
+            v.pdf_fwd = o->pdf_dir;
+            m_light.push_back(v);
+            if (!o->blocked)
+                random_walk({o->p, o->w, kInfinity}, o->Le / (o->pdf_pos * o->pdf_dir), o->pdf_pos, max_depth + 1,
+                            Transport::importance, lambda_light, m_light);
+        } else {
+            v.hit.p = o->p;
+            v.hit.p_err = o->p_err;
+            v.hit.n = o->n;
+            v.beta = o->Le / o->pdf_pos;
+            v.pdf_fwd = o->pdf_pos;
+            v.delta_light = o->delta_position;
+            m_light.push_back(v);
+            const float cos_o = o->delta_position ? 1.f : std::fabs(dot(o->n, o->w));
+            const SampledSpectrum beta = o->Le * (cos_o / (o->pdf_pos * o->pdf_dir));
+            const Ray ray{offset_ray_origin(o->p, o->p_err, o->n, o->w), o->w, kInfinity};
+            random_walk(ray, beta, o->pdf_dir, max_depth + 1, Transport::importance, lambda_light, m_light);
+        }
     }
 
     // ---- Camera subpath (radiance transport) ----
@@ -250,9 +292,6 @@ SampledSpectrum Bdpt::run(const Ray& camera_ray, std::vector<Splat>& splats) {
         if (terminated && !start_terminated) L_hero[0] += c[0];
         else L_full += c;
     };
-    if (!m_escaped.is_zero() && m_scene.effects.background)  // environment: s = 0 only
-        accumulate(m_escaped * m_scene.background.sample(m_lambda), m_escaped_terminated);
-
     const int n_light = static_cast<int>(m_light.size()), n_camera = static_cast<int>(m_camera.size());
     for (int t = 1; t <= n_camera; ++t) {
         for (int s = 0; s <= n_light; ++s) {
@@ -260,6 +299,15 @@ SampledSpectrum Bdpt::run(const Ray& camera_ray, std::vector<Splat>& splats) {
             if ((s == 1 && t == 1) || depth < 0 || depth > max_depth) continue;
             const Vertex& pt = m_camera[t - 1];
             const bool terminated = pt.terminated || (s > 0 && m_light[s - 1].terminated);
+            if (pt.infinite) {
+                // The camera path escaped: only s = 0 ends on the environment. Weight 1 when
+                // the environment is not a light of the sampler (no power in 380–780 nm).
+                if (s > 0) continue;
+                const SampledSpectrum c = pt.beta * m_scene.background.sample(m_lambda);
+                if (c.is_zero()) continue;
+                accumulate(c * (m_ctx.lights.has_environment() ? mis_weight(0, t) : 1.f), terminated);
+                continue;
+            }
             if (s == 0) {
                 // The camera path hits an emitter.
                 const Material& mat = m_scene.materials[pt.hit.material];
@@ -272,6 +320,17 @@ SampledSpectrum Bdpt::run(const Ray& camera_ray, std::vector<Splat>& splats) {
             }
             const Vertex& qs = m_light[s - 1];
             if (!connectible(qs)) continue;  // a sampled specular lobe does not matter here
+            if (qs.infinite) {
+                // s = 1 on the environment: towards the light subpath's direction (uniform over
+                // the sphere, density environment_pdf), unoccluded to infinity.
+                if (!connectible(pt)) continue;
+                SampledSpectrum c = qs.beta * pt.beta * f(pt, qs.dir, m_lambda) * std::fabs(dot(pt.hit.n, qs.dir));
+                if (c.is_zero()) continue;
+                ++m_stats.rays;
+                if (m_scene.occluded(spawn_ray(pt.hit, qs.dir))) continue;
+                accumulate(c * mis_weight(1, t), terminated);
+                continue;
+            }
             if (t == 1) {
                 // Light vertex seen by the pinhole: a splat on the pixel it projects to.
                 const Vec3 to_camera = pt.p() - qs.p();

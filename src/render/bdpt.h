@@ -9,8 +9,12 @@
 //
 // Strategies: s = 0 (the camera path hits an emitter), s = 1 (connect to the light's origin),
 // t = 1 (connect a light vertex to the pinhole: a splat on another pixel) and s, t ≥ 2.
-// Emitters that cannot be sampled (infinite planes, the constant environment) are reached by
-// s = 0 only, with MIS weight 1 (see light_sampling.h).
+// Emitting infinite planes cannot be sampled: they are reached by s = 0 only, with MIS weight
+// 1 (see light_sampling.h). The constant environment is a light like the others, as a vertex
+// at infinity (pbrt's infinite lights): a camera path that escapes ends on it (s = 0), s = 1
+// connects towards the direction its light subpath sampled, and its subpaths start on a disk
+// (light_sampling.h). Its densities are in solid angle at the vertex itself and planar (the
+// disk's) for the next vertex, with no 1/r² conversion.
 //
 // Film estimator: pixel = Σ(camera-side contributions)/count + Σ(splats)/M, M = light paths
 // per pixel (Film::add_light_paths); the camera importance We = 1/(A·cos⁴θ) of the whole

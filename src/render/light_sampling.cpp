@@ -4,6 +4,7 @@
 
 #include "core/frame.h"
 #include "core/sampling.h"
+#include "geometry/aabb.h"
 
 namespace spt {
 
@@ -17,6 +18,21 @@ float mean_value(const Spectrum& s) {
 }
 
 float triangle_area(const Triangle& t) { return 0.5f * length(cross(t.p1 - t.p0, t.p2 - t.p0)); }
+
+/// Box around what the environment's light subpaths should reach: the finite shapes, the camera
+/// and the point lights. Planes are unbounded (see the header).
+Aabb scene_bounds(const Scene& scene) {
+    Aabb box;
+    for (const Sphere& s : scene.spheres) {
+        const Vec3 r(s.radius, s.radius, s.radius);
+        box.expand(s.center - r);
+        box.expand(s.center + r);
+    }
+    for (const Triangle& t : scene.triangles) box.expand(t.p0), box.expand(t.p1), box.expand(t.p2);
+    for (const PointLight& l : scene.point_lights) box.expand(l.position);
+    box.expand(scene.camera.position);
+    return box;
+}
 
 }  // namespace
 
@@ -42,6 +58,15 @@ LightSampler::LightSampler(const Scene& scene) : m_scene(scene) {
     }
     for (int i = 0; i < static_cast<int>(scene.planes.size()); ++i)
         if (scene.materials[scene.planes[i].material].is_emissive()) m_emissive_planes.push_back(i);
+    if (scene.effects.background) {
+        const Aabb box = scene_bounds(scene);
+        m_center = box.centroid();
+        m_radius = 0.5f * length(box.hi - box.lo);
+        // A lone camera (only planes around it): any radius is correct (see the header).
+        if (!(m_radius > 0.f)) m_radius = 1.f;
+        const float p = 4.f * kPi * (kPi * m_radius * m_radius) * mean_value(scene.background);
+        if (p > 0.f) m_lights.push_back({Kind::environment, -1}), power.push_back(p);
+    }
 
     double total = 0;
     for (float p : power) total += p;
@@ -57,6 +82,7 @@ LightSampler::LightSampler(const Scene& scene) : m_scene(scene) {
         m_choice.push_back(static_cast<float>(p / total));
     }
     m_cdf.back() = 1.f;
+    if (!m_lights.empty() && m_lights.back().kind == Kind::environment) m_environment_choice = m_choice.back();
     for (std::size_t m = 0; m < scene.materials.size(); ++m)
         m_material_area_pdf[m] = static_cast<float>(2.0 * kPi * material_le[m] / total);
 }
@@ -69,6 +95,22 @@ std::optional<LightOrigin> LightSampler::sample(const SampledWavelengths& lambda
     const std::size_t k = std::min<std::size_t>(static_cast<std::size_t>(it - m_cdf.begin()), m_lights.size() - 1);
     const Entry& e = m_lights[k];
     LightOrigin o;
+    if (e.kind == Kind::environment) {
+        // Direction, then a point on the disk of radius R facing it, one radius upstream.
+        o.environment = true;
+        o.w = sample_uniform_sphere(u1, u2);
+        const Frame frame(o.w);
+        const float r = m_radius * std::sqrt(u3), phi = 2.f * kPi * u4;
+        o.p = m_center - o.w * m_radius + frame.s * (r * std::cos(phi)) + frame.t * (r * std::sin(phi));
+        o.p_err = Vec3(0, 0, 0);
+        o.Le = m_scene.background.sample(lambda);
+        o.pdf_pos = 1.f / (kPi * m_radius * m_radius);
+        o.pdf_dir = m_choice[k] * (0.25f * kInvPi);
+        // Upstream of the disk lies only what is unbounded: a plane there hides the environment.
+        const Ray upstream{o.p, -o.w, kInfinity};
+        for (const Plane& plane : m_scene.planes) o.blocked |= plane.intersect_t(upstream) < kInfinity;
+        return o;
+    }
     if (e.kind == Kind::point) {
         const PointLight& light = m_scene.point_lights[e.index];
         o.p = light.position;
@@ -110,6 +152,14 @@ std::optional<LightOrigin> LightSampler::sample(const SampledWavelengths& lambda
     o.pdf_pos = m_choice[k] / area;
     o.pdf_dir = 0.5f * local.z * kInvPi;
     return o;
+}
+
+float LightSampler::environment_position_pdf(const Vec3& p, const Vec3& d) const {
+    if (!has_environment()) return 0.f;
+    const Vec3 v = p - m_center;
+    const float along = dot(v, d);
+    if (along < -m_radius || length_squared(v - d * along) > m_radius * m_radius) return 0.f;
+    return 1.f / (kPi * m_radius * m_radius);
 }
 
 float LightSampler::origin_pdf(const Hit& hit) const {

@@ -3,17 +3,43 @@
 // What can start a light subpath:
 //   - point lights: a delta position, directions uniform over the sphere;
 //   - emitting spheres and triangles (quads, meshes): a point uniform over the area, then a
-//     side (both sides emit) with probability 1/2 and a cosine-weighted direction on it.
+//     side (both sides emit) with probability 1/2 and a cosine-weighted direction on it;
+//   - the constant environment (pbrt's infinite lights): a direction d uniform over the
+//     sphere, then a point uniform on a disk of radius R perpendicular to d, one radius
+//     upstream of the centre of the scene's bounding sphere (centre c, radius R); the ray
+//     leaves the disk along d.
 // A light is chosen with probability proportional to its power (mean over 380–780 nm of
-// 4π·I for points, 2π·A·Le for two-sided area emitters). For area emitters the choice
-// probability over the area is then 2π·Le/P_total: a property of the material alone, so the
-// density of a point that a camera path happens to hit needs no shape identifier.
+// 4π·I for points, 2π·A·Le for two-sided area emitters, 4π·πR²·Le for the environment: the
+// flux through the disk from every direction). For area emitters the choice probability over
+// the area is then 2π·Le/P_total: a property of the material alone, so the density of a point
+// that a camera path happens to hit needs no shape identifier.
 //
-// What cannot: emitting infinite planes (the Cornell ceiling) have no finite area to sample,
-// and the constant environment is not sampled either in this version. Like pbrt's lights
-// that cannot be sampled, they are reached only by camera subpaths that hit them (the s = 0
-// strategies); their light-origin density is 0, and the MIS weight of such a path is 1 since
-// no other strategy can produce it.
+// The environment as a vertex lies at infinity: it is measured by direction. Its density is
+// P(choose it)/(4π) in solid angle (environment_pdf), and the first vertex x of its subpath
+// has the area density (1/(πR²))·|cos θx| (environment_position_pdf times the cosine at x),
+// with no 1/r² (pbrt-v3's InfiniteLightDensity and PdfLight).
+//
+// The bounding sphere covers the finite shapes, the camera and the point lights (so that what
+// the camera sees around itself, on planes too, is reached by light subpaths: efficiency, not
+// correctness); infinite planes are unbounded and cannot be covered. This stays unbiased
+// everywhere:
+//   - a ray from the disk stands for the light arriving from infinity along its line. Only an
+//     unbounded plane can cross the line upstream of the disk (outside the sphere); then that
+//     light never arrives, and sample() flags the origin `blocked` (no subpath from it);
+//   - a point that no ray from the disk can reach (a far part of a plane outside the
+//     cylinder the disk sweeps) has environment_position_pdf 0: the strategies that would
+//     need the environment's subpath to land there have density 0, and the MIS weights
+//     leave them out (bdpt.cpp). The other strategies (the camera path escaping, the
+//     connection towards a sampled direction) cover such points on their own.
+// The direction of the environment's origin is valid whether or not the disk ray is
+// blocked: bidirectional s = 1 connections use it (a direction uniform over the sphere).
+//
+// What cannot start a light subpath: emitting infinite planes (the Cornell ceiling) have no
+// finite area to sample. Like pbrt's lights that cannot be sampled, they are reached only by
+// camera subpaths that hit them (the s = 0 strategies); their light-origin density is 0, and
+// the MIS weight of such a path is 1 since no other strategy can produce it.
+//
+// A scene without an environment (background zero) has no environment entry and pays nothing.
 #pragma once
 #include <optional>
 #include <vector>
@@ -27,12 +53,17 @@ namespace spt {
 /// the densities that produced them.
 struct LightOrigin {
     Vec3 p, p_err;
-    Vec3 n;              ///< surface normal (zero for point lights: no cosine there)
+    Vec3 n;              ///< surface normal (zero for point lights and the environment)
     Vec3 w;              ///< emission direction (unit)
-    SampledSpectrum Le;  ///< radiance (area) or intensity (point) along w
-    float pdf_pos = 0;   ///< area density of the point, light choice included (1·choice if delta)
-    float pdf_dir = 0;   ///< solid-angle density of w
+    SampledSpectrum Le;  ///< radiance (area, environment) or intensity (point) along w
+    /// Area density of the point, light choice included (1·choice if delta). Environment:
+    /// the planar density 1/(πR²) of the disk point, without the choice.
+    float pdf_pos = 0;
+    /// Solid-angle density of w. Environment: 1/(4π) times the choice probability.
+    float pdf_dir = 0;
     bool delta_position = false;
+    bool environment = false;  ///< the constant environment: p is on the disk, w the direction
+    bool blocked = false;      ///< environment: an infinite plane cuts the ray upstream of p
 };
 
 class LightSampler {
@@ -40,6 +71,7 @@ public:
     explicit LightSampler(const Scene& scene);
 
     bool empty() const { return m_lights.empty(); }
+    bool has_environment() const { return m_environment_choice > 0.f; }
 
     /// Samples a light ∝ power, a point on it and a direction; nullopt when there is none.
     std::optional<LightOrigin> sample(const SampledWavelengths& lambda, float u_light, float u1,
@@ -49,14 +81,23 @@ public:
     /// point; 0 for emitters that cannot be sampled (infinite planes) and non-emitters.
     float origin_pdf(const Hit& hit) const;
 
+    /// Solid-angle density (choice included) with which sample() produces the environment in
+    /// a given direction; 0 when the scene has no environment.
+    float environment_pdf() const { return m_environment_choice * (0.25f * kInvPi); }
+
+    /// Planar density of the disk point through which a ray from the environment travelling
+    /// along `d` (unit) reaches `p`: 1/(πR²), or 0 when no ray leaving the disk passes
+    /// through p (p outside the cylinder the disk sweeps, or upstream of the disk).
+    float environment_position_pdf(const Vec3& p, const Vec3& d) const;
+
     /// Solid-angle density of emitting towards w from an area emitter of normal n.
     static float direction_pdf(const Vec3& n, const Vec3& w) { return 0.5f * std::fabs(dot(n, w)) * kInvPi; }
 
 private:
-    enum class Kind { point, sphere, triangle };
+    enum class Kind { point, sphere, triangle, environment };
     struct Entry {
         Kind kind;
-        int index;  ///< into the scene's point_lights, spheres or triangles
+        int index;  ///< into the scene's point_lights, spheres or triangles (environment: -1)
     };
     const Scene& m_scene;
     std::vector<Entry> m_lights;
@@ -64,6 +105,9 @@ private:
     std::vector<float> m_choice;            ///< choice probability of each light
     std::vector<float> m_material_area_pdf;  ///< 2π·Le/P_total per material (0: not sampled)
     std::vector<int> m_emissive_planes;     ///< indices of emitting planes (never sampled)
+    Vec3 m_center;                          ///< bounding sphere of the environment's disk
+    float m_radius = 0.f;
+    float m_environment_choice = 0.f;       ///< its choice probability (0: no environment)
 };
 
 }  // namespace spt
