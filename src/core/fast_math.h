@@ -1,6 +1,7 @@
 // Logarithm and sine/cosine for the hot sampling code, written without branches or library
-// calls so that they inline, and the logarithm works on the four wavelengths of a path at once. Both are plain series with their exact coefficients, kept to float accuracy by
-// range reduction (tests/test_fast_math.cpp bounds the error against <cmath>).
+// calls so that they inline; the logarithm works on the four wavelengths of a path at once.
+// Both are plain series with their exact coefficients, kept to float accuracy by range
+// reduction (tests/test_fast_math.cpp bounds the error against <cmath>).
 #pragma once
 #include <bit>
 

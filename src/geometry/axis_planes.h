@@ -2,8 +2,9 @@
 // time. Every ray meets them, so they get their own layout: per axis, the plane coordinates
 // in pairs (padded with NaN, which no comparison accepts), each pair tested with one
 // two-lane double operation and selects instead of branches (which wall is nearest is
-// random from ray to ray, so branches would mispredict). In double, like every other shape: where two surfaces nearly
-// meet, a float t could pick the wrong one (tests/hard_cases/nearly_parallel_planes.json).
+// random from ray to ray, so branches would mispredict). In double, like every other shape:
+// where two surfaces nearly meet, a float t could pick the wrong one
+// (tests/hard_cases/nearly_parallel_planes.json).
 #pragma once
 #include <cmath>
 #include <cstdint>
