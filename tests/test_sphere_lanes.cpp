@@ -1,7 +1,10 @@
 // SphereLanes (the float rejection made on four spheres at once) must never reject a sphere
 // that Sphere::intersect_t would hit: a small scene (no BVH) agrees with a loop over
-// Sphere::intersect_t for every ray, with 1 to 8 spheres (one and two groups of four).
+// Sphere::intersect_t for every ray, with 1 to 8 spheres (one and two groups of four); the
+// same for triangles, which use the test on their bounding spheres.
 #include <gtest/gtest.h>
+
+#include <cmath>
 
 #include "core/rng.h"
 #include "core/sampling.h"
@@ -47,6 +50,58 @@ TEST(SphereLanes, SmallSceneHitsEqualALoopOverTheSpheres) {
             }
         }
         EXPECT_GT(hits, 100) << "the rays must actually meet the spheres";
+    }
+}
+
+}  // namespace
+}  // namespace spt
+
+namespace spt {
+namespace {
+
+/// Triangles of small scenes go through the float test of their bounding spheres first: the
+/// hits must equal a loop over Triangle::intersect, slivers and huge triangles included.
+TEST(SphereLanes, SmallSceneTriangleHitsEqualALoop) {
+    Rng rng(13, 0, 0);
+    for (int count = 1; count <= static_cast<int>(Scene::kBvhThreshold); ++count) {
+        Scene scene;
+        scene.add_material(Material{});
+        for (int i = 0; i < count; ++i) {
+            const float scale = std::pow(10.f, 4 * rng.uniform() - 2);  // 0.01 … 100
+            const Vec3 c = {4 * rng.uniform() - 2, 4 * rng.uniform() - 2, 4 * rng.uniform() - 2};
+            Triangle t;
+            t.p0 = c + sample_uniform_sphere(rng.uniform(), rng.uniform()) * scale;
+            t.p1 = c + sample_uniform_sphere(rng.uniform(), rng.uniform()) * scale;
+            // Every third one a sliver: p2 almost on the edge p0p1.
+            t.p2 = i % 3 == 0 ? t.p0 + (t.p1 - t.p0) * 0.5f + Vec3(1e-4f, 0, 0) * scale
+                              : c + sample_uniform_sphere(rng.uniform(), rng.uniform()) * scale;
+            t.material = 0;
+            if (t.is_degenerate()) continue;
+            scene.triangles.push_back(t);
+        }
+        scene.finalize();
+        ASSERT_FALSE(scene.uses_bvh());
+        int hits = 0;
+        for (int k = 0; k < 4000; ++k) {
+            Ray ray;
+            ray.o = {6 * rng.uniform() - 3, 6 * rng.uniform() - 3, 6 * rng.uniform() - 3};
+            const Triangle& t = scene.triangles[static_cast<std::size_t>(rng.uniform() * scene.triangles.size())];
+            // Aim at a random point of a triangle, slightly outside it at times (edges).
+            const float a = rng.uniform() * 1.1f - 0.05f, b = rng.uniform() * (1.1f - a) - 0.05f;
+            ray.d = normalize(t.p0 + (t.p1 - t.p0) * a + (t.p2 - t.p0) * b - ray.o);
+            ray.t_max = kInfinity;
+            double t_ref = ray.t_max;
+            for (const Triangle& tri : scene.triangles)
+                if (auto ti = tri.intersect(ray, t_ref)) t_ref = ti->t;
+            const auto hit = scene.intersect(ray);
+            ASSERT_EQ(hit.has_value(), t_ref < ray.t_max) << count << " triangles, ray " << k;
+            ASSERT_EQ(scene.occluded(ray), t_ref < ray.t_max) << count << " triangles, ray " << k;
+            if (hit) {
+                EXPECT_EQ(hit->t, static_cast<float>(t_ref));
+                ++hits;
+            }
+        }
+        EXPECT_GT(hits, 1000) << "the rays must actually meet the triangles";
     }
 }
 

@@ -15,6 +15,18 @@ void require(bool ok, const std::string& message) {
 
 bool finite(const Vec3& v) { return is_finite(v); }
 
+/// A sphere around the triangle: the centroid and the farthest vertex, padded by 0.1 % (far
+/// above the float rounding of both), so the float rejection of SphereLanes never drops a hit.
+Sphere bounding_sphere(const Triangle& t) {
+    Sphere s;
+    s.center = (t.p0 + t.p1 + t.p2) / 3.f;
+    const float r2 = std::max({length_squared(t.p0 - s.center), length_squared(t.p1 - s.center),
+                               length_squared(t.p2 - s.center)});
+    s.radius = std::sqrt(r2) * 1.001f;
+    s.material = t.material;
+    return s;
+}
+
 /// Checks a spectrum over the sampled range: finite, within [lo, hi].
 void check_spectrum(const Spectrum& s, const std::string& what, float lo, float hi) {
     for (float l = kLambdaMin; l <= kLambdaMax; l += 1.f) {
@@ -133,6 +145,10 @@ void Scene::finalize() {
     if (spheres.size() + triangles.size() > kBvhThreshold) m_bvh.build(spheres, triangles);
     m_use_bvh = !m_bvh.empty();
     m_sphere_lanes.build(m_use_bvh ? std::vector<Sphere>{} : spheres);
+    std::vector<Sphere> bounds;
+    if (!m_use_bvh)
+        for (const Triangle& t : triangles) bounds.push_back(bounding_sphere(t));
+    m_triangle_lanes.build(bounds);
 
     // Which effects are called for: only materials that some shape uses count.
     effects = Effects{};

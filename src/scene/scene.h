@@ -75,8 +75,9 @@ struct Scene {
         });
         const Triangle* best_triangle = nullptr;
         std::optional<TriangleIntersection> best_ti;
-        for (const Triangle& tri : triangles)
-            if (auto ti = tri.intersect(ray, t_best)) t_best = ti->t, best_triangle = &tri, best_ti = ti;
+        m_triangle_lanes.candidates(ray, [&](int i) {
+            if (auto ti = triangles[i].intersect(ray, t_best)) t_best = ti->t, best_triangle = &triangles[i], best_ti = ti;
+        });
         if (best_triangle) return best_triangle->make_hit(*best_ti);
         if (best_sphere) return best_sphere->make_hit(ray, t_best);
         if (best_plane >= 0) {
@@ -96,9 +97,8 @@ struct Scene {
         bool blocked = false;
         m_sphere_lanes.candidates(ray, [&](int i) { blocked |= spheres[i].intersect_t_exact(ray) < ray.t_max; });
         if (blocked) return true;
-        for (const Triangle& tri : triangles)
-            if (tri.intersect(ray, ray.t_max)) return true;
-        return false;
+        m_triangle_lanes.candidates(ray, [&](int i) { blocked |= triangles[i].intersect(ray, ray.t_max).has_value(); });
+        return blocked;
     }
 
 private:
@@ -109,6 +109,8 @@ private:
 
     AxisPlanes m_axis_planes;              ///< built by finalize()
     SphereLanes m_sphere_lanes;            ///< built by finalize() when there is no BVH
+    /// The triangles' bounding spheres, so that most rays skip the exact (double) test.
+    SphereLanes m_triangle_lanes;
     std::vector<int> m_general_planes;     ///< planes that are not axis-aligned
     std::vector<signed char> m_plane_axis;  ///< per plane: its normal's axis, −1 if tilted
     Bvh m_bvh;                             ///< over spheres and triangles; empty below the threshold
