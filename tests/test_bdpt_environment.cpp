@@ -48,6 +48,7 @@ using test::Comparison;
 using test::constant_spectrum;
 using test::describe;
 using test::diffuse_material;
+using test::environment_only;
 using test::glass_material;
 using test::image_mean_y;
 using test::ImageMean;
@@ -123,19 +124,6 @@ Comparison worst_block(const Film& a, const Film& b, int block) {
     return worst;
 }
 
-/// The scene with no shapes and lights: its pixels see the bare environment.
-Scene environment_only(Scene scene) {
-    scene.spheres.clear();
-    scene.planes.clear();
-    scene.triangles.clear();
-    scene.point_lights.clear();
-    scene.finalize();
-    return scene;
-}
-
-Scene hard_case(const std::string& name) {
-    return load_scene_file(std::string(SPT_TEST_DIR) + "/hard_cases/" + name + ".json", SpectralResolution{});
-}
 
 // ---------------------------------------------------------------------------------------
 // The furnace: a convex Lambertian sphere in a uniform environment sees only the
@@ -332,7 +320,7 @@ TEST(BdptEnvironment, AgreesWithPathTracerOnSpheresOverAnInfinitePlane) {
 // own size and spp (test_hard_cases.cpp describes each; there with the path tracer).
 
 TEST(BdptEnvironment, HardCaseDiffuseSphereEnvironment) {
-    const Scene scene = hard_case("diffuse_sphere_environment");
+    const Scene scene = test::load_hard_case("diffuse_sphere_environment");
     const FurnaceResult r =
         expect_furnace(scene, bdpt_settings(scene.width, scene.height, scene.spp, 51), 0.6, {0, 0, 0}, 1.f);
     EXPECT_GE(r.on, 12);
@@ -343,7 +331,7 @@ TEST(BdptEnvironment, HardCaseDiffuseSphereEnvironment) {
 /// A tilted plane seen at 89.9° from its normal: every pixel is 0.7, and every point seen is
 /// hundreds of units from the camera, far outside the disk (no light subpath reaches it).
 TEST(BdptEnvironment, HardCaseGrazingPlaneEnvironment) {
-    const Scene scene = hard_case("grazing_plane_environment");
+    const Scene scene = test::load_hard_case("grazing_plane_environment");
     const RenderSettings rs = bdpt_settings(scene.width, scene.height, scene.spp, 52);
     const auto film = render_film(scene, rs);
     EXPECT_EQ(film->rejected_samples(), 0u);
@@ -358,7 +346,7 @@ TEST(BdptEnvironment, HardCaseGrazingPlaneEnvironment) {
 /// Specular only: the escaping camera path is the only strategy (weight 1), so the mirror
 /// sphere is exactly the environment and the facing mirrors exactly black.
 TEST(BdptEnvironment, HardCaseMirrorsAreExact) {
-    const Scene mirror = hard_case("mirror_sphere_environment");
+    const Scene mirror = test::load_hard_case("mirror_sphere_environment");
     const RenderSettings rs = bdpt_settings(mirror.width, mirror.height, mirror.spp, 53);
     const auto film = render_film(mirror, rs);
     const auto bare = render_film(environment_only(mirror), rs);
@@ -368,7 +356,7 @@ TEST(BdptEnvironment, HardCaseMirrorsAreExact) {
             worst = std::max(worst, std::fabs(film->pixel_xyz(x, y).y / bare->pixel_xyz(x, y).y - 1.0));
     EXPECT_LE(worst, 1e-5);
 
-    const Scene mirrors = hard_case("facing_mirrors");
+    const Scene mirrors = test::load_hard_case("facing_mirrors");
     const auto black = render_film(mirrors, bdpt_settings(mirrors.width, mirrors.height, mirrors.spp, 54));
     double brightest = 0;
     for (int y = 0; y < mirrors.height; ++y)
@@ -385,7 +373,7 @@ TEST(BdptEnvironment, HardCaseGlassFurnaces) {
     for (const auto& [name, expected] : {std::pair<const char*, double>{"glass_furnace", 1.0},
                                          {"glass_furnace_index4", 1.0},
                                          {"camera_inside_glass", 2.25}}) {
-        const Scene scene = hard_case(name);
+        const Scene scene = test::load_hard_case(name);
         const auto film = render_film(scene, bdpt_settings(scene.width, scene.height, scene.spp, 55));
         EXPECT_EQ(film->rejected_samples(), 0u) << name;
         const ImageMean m = image_mean_y(*film);
@@ -401,7 +389,7 @@ TEST(BdptEnvironment, HardCaseGlassFurnaces) {
 /// without a connection through it remain (shadow rays do not cross glass), and those pixels
 /// are skewed.
 TEST(BdptEnvironment, HardCaseGlassOfIndexOneIsInvisible) {
-    const Scene scene = hard_case("glass_index_one");
+    const Scene scene = test::load_hard_case("glass_index_one");
     Scene without = scene;
     without.spheres.clear();
     without.finalize();
@@ -416,7 +404,7 @@ TEST(BdptEnvironment, HardCaseGlassOfIndexOneIsInvisible) {
 
 /// A glass shell 4e-5 thick around a diffuse sphere: against the path tracer.
 TEST(BdptEnvironment, HardCaseThinGlassShellAgreesWithPathTracer) {
-    const Scene scene = hard_case("thin_glass_shell");
+    const Scene scene = test::load_hard_case("thin_glass_shell");
     const auto path = render_film(scene, small_settings(scene.width, scene.height, scene.spp, 58));
     const auto bdpt = render_film(scene, bdpt_settings(scene.width, scene.height, scene.spp / 2, 59));
     EXPECT_EQ(bdpt->rejected_samples(), 0u);
@@ -434,7 +422,7 @@ TEST(BdptEnvironment, HardCaseThinGlassShellAgreesWithPathTracer) {
 /// constant spectrum (X and Z of 1 through the film's tables, as in test_hard_cases.cpp): a
 /// path that lost energy at some wavelengths would tint the sphere.
 TEST(BdptDispersion, HardCaseGlassFurnaceBk7) {
-    const Scene scene = hard_case("glass_furnace_bk7");
+    const Scene scene = test::load_hard_case("glass_furnace_bk7");
     ASSERT_TRUE(scene.effects.dispersion);
     const auto film = render_film(scene, bdpt_settings(scene.width, scene.height, scene.spp, 61));
     EXPECT_EQ(film->rejected_samples(), 0u);

@@ -62,11 +62,9 @@ constexpr double kPi = std::numbers::pi;
 // ---------------------------------------------------------------------------------------
 // Loading, rendering and the global invariant.
 
-std::string case_path(const std::string& name) {
-    return std::string(SPT_TEST_DIR) + "/hard_cases/" + name + ".json";
-}
-
-Scene load_case(const std::string& name) { return load_scene_file(case_path(name), SpectralResolution{}); }
+using test::environment_only;
+std::string case_path(const std::string& name) { return test::hard_case_path(name); }
+Scene load_case(const std::string& name) { return test::load_hard_case(name); }
 
 /// The file's image size and spp, a fixed seed, 2 threads.
 RenderSettings case_settings(const Scene& scene, std::uint64_t seed) {
@@ -88,16 +86,6 @@ void expect_clean(const Film& film, const RenderSettings& rs, const std::string&
         for (int x = 0; x < film.width(); ++x)
             if (film.sample_count(x, y) != std::uint32_t(rs.spp)) ++short_pixels;
     EXPECT_EQ(short_pixels, 0) << what << ": pixels without all their samples";
-}
-
-/// The scene without shapes and lights: the bare environment (radiance = background).
-Scene environment_only(Scene scene) {
-    scene.spheres.clear();
-    scene.planes.clear();
-    scene.triangles.clear();
-    scene.point_lights.clear();
-    scene.finalize();
-    return scene;
 }
 
 /// The scene with the background replaced by a constant (a reference with radiance c).

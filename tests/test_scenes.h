@@ -16,6 +16,7 @@
 #include "render/film.h"
 #include "render/renderer.h"
 #include "scene/scene.h"
+#include "scene/scene_loader.h"
 
 namespace spt::test {
 
@@ -46,6 +47,25 @@ inline Material glass_material(double eta) {
     m.kt = constant_spectrum(1.0);
     m.eta = constant_spectrum(eta);
     return m;
+}
+
+/// Path of a scene file in tests/hard_cases/, and the scene loaded from it (default bins).
+inline std::string hard_case_path(const std::string& name) {
+    return std::string(SPT_TEST_DIR) + "/hard_cases/" + name + ".json";
+}
+inline Scene load_hard_case(const std::string& name) {
+    return load_scene_file(hard_case_path(name), SpectralResolution{});
+}
+
+/// The scene without shapes and lights: its pixels see the bare environment (radiance =
+/// background).
+inline Scene environment_only(Scene scene) {
+    scene.spheres.clear();
+    scene.planes.clear();
+    scene.triangles.clear();
+    scene.point_lights.clear();
+    scene.finalize();
+    return scene;
 }
 
 /// Schott BK7 (Sellmeier coefficients of ROBUSTNESS.md §4): a dispersive glass.

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <string>
 
 #include "core/rng.h"
 #include "core/sampling.h"
@@ -12,6 +13,18 @@
 
 namespace spt {
 namespace {
+
+/// Checks scene.intersect and scene.occluded against the reference nearest distance t_ref
+/// (what a loop over the shapes gives) for one ray; returns whether the ray hit.
+bool expect_same_hit(const Scene& scene, const Ray& ray, double t_ref, const std::string& what) {
+    const auto hit = scene.intersect(ray);
+    EXPECT_EQ(hit.has_value(), t_ref < ray.t_max) << what;
+    EXPECT_EQ(scene.occluded(ray), t_ref < ray.t_max) << what;
+    if (hit) {
+        EXPECT_EQ(hit->t, static_cast<float>(t_ref)) << what;
+    }
+    return hit.has_value();
+}
 
 TEST(SphereLanes, SmallSceneHitsEqualALoopOverTheSpheres) {
     Rng rng(11, 0, 0);
@@ -41,23 +54,12 @@ TEST(SphereLanes, SmallSceneHitsEqualALoopOverTheSpheres) {
             ray.t_max = k % 2 ? kInfinity : 2.f;
             double t_ref = ray.t_max;
             for (const Sphere& s : scene.spheres) t_ref = std::min(t_ref, s.intersect_t(ray));
-            const auto hit = scene.intersect(ray);
-            ASSERT_EQ(hit.has_value(), t_ref < ray.t_max) << count << " spheres, ray " << k;
-            ASSERT_EQ(scene.occluded(ray), t_ref < ray.t_max) << count << " spheres, ray " << k;
-            if (hit) {
-                EXPECT_EQ(hit->t, static_cast<float>(t_ref));
-                ++hits;
-            }
+            hits += expect_same_hit(scene, ray, t_ref, std::to_string(count) + " spheres, ray " + std::to_string(k));
+            if (::testing::Test::HasFailure()) return;
         }
         EXPECT_GT(hits, 100) << "the rays must actually meet the spheres";
     }
 }
-
-}  // namespace
-}  // namespace spt
-
-namespace spt {
-namespace {
 
 /// Triangles of small scenes go through the float test of their bounding spheres first: the
 /// hits must equal a loop over Triangle::intersect, slivers and huge triangles included.
@@ -93,13 +95,8 @@ TEST(SphereLanes, SmallSceneTriangleHitsEqualALoop) {
             double t_ref = ray.t_max;
             for (const Triangle& tri : scene.triangles)
                 if (auto ti = tri.intersect(ray, t_ref)) t_ref = ti->t;
-            const auto hit = scene.intersect(ray);
-            ASSERT_EQ(hit.has_value(), t_ref < ray.t_max) << count << " triangles, ray " << k;
-            ASSERT_EQ(scene.occluded(ray), t_ref < ray.t_max) << count << " triangles, ray " << k;
-            if (hit) {
-                EXPECT_EQ(hit->t, static_cast<float>(t_ref));
-                ++hits;
-            }
+            hits += expect_same_hit(scene, ray, t_ref, std::to_string(count) + " triangles, ray " + std::to_string(k));
+            if (::testing::Test::HasFailure()) return;
         }
         EXPECT_GT(hits, 1000) << "the rays must actually meet the triangles";
     }

@@ -68,14 +68,13 @@ Spectrum::Spectrum(SpectrumSource source, SpectralResolution resolution)
     if (resolution.bins != SpectralResolution::kExact) {
         const int n = resolution.bins;
         m_inv_bin_width = static_cast<float>(n / double(kBinMax - kBinMin));
-        m_bins = project_onto_bins(m_source, n);
+        m_lookup = project_onto_bins(m_source, n);
         // One bin is a constant; store it twice so the interpolating look-up needs no branch.
-        if (n == 1) m_bins.push_back(m_bins[0]), m_inv_bin_width = 0.f;
-        m_last_bin = static_cast<float>(m_bins.size() - 1);
-        m_lookup = m_bins;
-        m_lookup.push_back(m_bins.back());
-        m_max = *std::max_element(m_bins.begin(), m_bins.end());
-        m_min = *std::min_element(m_bins.begin(), m_bins.end());
+        if (n == 1) m_lookup.push_back(m_lookup[0]), m_inv_bin_width = 0.f;
+        m_last_bin = static_cast<float>(m_lookup.size() - 1);
+        m_max = *std::max_element(m_lookup.begin(), m_lookup.end());
+        m_min = *std::min_element(m_lookup.begin(), m_lookup.end());
+        m_lookup.push_back(m_lookup.back());
         return;
     }
     // Exact mode: scan the sampled range densely (0.5 nm) for the validation bounds.

@@ -2,6 +2,7 @@
 // evaluates the bins (fast, the default) or the source itself (--spectral-bins exact).
 #pragma once
 #include <cstring>
+#include <span>
 #include <vector>
 
 #include "spectral/sampled.h"
@@ -37,7 +38,7 @@ public:
     /// interpolated between centres and held constant beyond the first and last centre. Exact mode evaluates the source.
     float eval(float lambda_nm) const {
         if (m_constant) return m_constant_value;
-        if (m_bins.empty()) return static_cast<float>(m_source.eval(lambda_nm));
+        if (m_lookup.empty()) return static_cast<float>(m_source.eval(lambda_nm));
         // Clamping the bin coordinate holds the end values and keeps the look-up branch-free.
         const float x = std::clamp((lambda_nm - kBinMin) * m_inv_bin_width - 0.5f, 0.f, m_last_bin);
         const int i = static_cast<int>(x);
@@ -47,7 +48,7 @@ public:
     /// Values at the path's wavelengths: eval() on four lanes at once.
     [[gnu::always_inline]] SampledSpectrum sample(const SampledWavelengths& w) const {
         if (m_constant) return SampledSpectrum(m_constant_value);
-        if (m_bins.empty()) [[unlikely]] {
+        if (m_lookup.empty()) [[unlikely]] {
             SampledSpectrum s;
             for (int i = 0; i < kLambdaCount; ++i) s[i] = eval(w.lambda[i]);
             return s;
@@ -65,7 +66,10 @@ public:
     }
 
     const SpectrumSource& source() const { return m_source; }
-    const std::vector<float>& bins() const { return m_bins; }
+    /// The bin values (empty in exact mode).
+    std::span<const float> bins() const {
+        return m_lookup.empty() ? std::span<const float>() : std::span<const float>(m_lookup).first(m_lookup.size() - 1);
+    }
     bool is_constant() const { return m_constant; }
     bool is_zero() const { return m_zero; }
     /// Largest and smallest value the renderer can see (bins, or a dense scan in exact mode).
@@ -74,9 +78,8 @@ public:
 
 private:
     SpectrumSource m_source;
-    std::vector<float> m_bins;  ///< empty in exact mode
-    /// m_bins with the last value repeated: at the last centre the look-up reads one past it
-    /// with weight 0, so it needs no clamp of the index.
+    /// The bin values, then the last one again: at the last centre the look-up reads one past
+    /// it with weight 0, so it needs no clamp of the index. Empty in exact mode.
     std::vector<float> m_lookup;
     float m_inv_bin_width = 0.f;
     float m_last_bin = 0.f;     ///< index of the last bin, as a float
