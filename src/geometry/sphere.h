@@ -7,6 +7,18 @@
 
 namespace spt {
 
+/// Cheap float rejection of clear misses (most rays): the sphere behind the origin, or the
+/// line passing outside it by a margin far above float rounding. oc = centre − origin, d the
+/// ray direction. T is float (one sphere: a bool) or Float4 (SphereLanes: four at once, a
+/// lane mask); the same expressions either way, so both reject exactly the same spheres.
+template <typename T>
+inline auto sphere_surely_missed(T ocx, T ocy, T ocz, T dx, T dy, T dz, T radius) {
+    const T tc = ocx * dx + ocy * dy + ocz * dz;
+    const T oc2 = ocx * ocx + ocy * ocy + ocz * ocz;
+    const T r2 = radius * radius;
+    return ((tc < -radius) & (oc2 > r2 * 1.01f)) | (oc2 - tc * tc > r2 * 1.01f + 1e-5f * oc2);
+}
+
 struct Sphere {
     Vec3 center;
     float radius = 1.f;
@@ -14,15 +26,8 @@ struct Sphere {
 
     /// Distance to the nearest hit with t > 0, or infinity when there is none.
     double intersect_t(const Ray& ray) const {
-        // Cheap float rejection of clear misses (most rays): sphere behind the origin or the
-        // line passing outside the sphere by a margin far above float rounding.
-        // (SphereLanes makes the same test on four spheres at once.)
         const Vec3 oc = center - ray.o;
-        const float tc = dot(oc, ray.d);
-        const float oc2 = dot(oc, oc);
-        const float r2 = radius * radius;
-        if (tc < -radius && oc2 > r2 * 1.01f) return kInfinity;
-        if (oc2 - tc * tc > r2 * 1.01f + 1e-5f * oc2) return kInfinity;
+        if (sphere_surely_missed(oc.x, oc.y, oc.z, ray.d.x, ray.d.y, ray.d.z, radius)) return kInfinity;
         return intersect_t_exact(ray);
     }
 

@@ -33,14 +33,7 @@ public:
         const Float4 dx = splat4(ray.d.x), dy = splat4(ray.d.y), dz = splat4(ray.d.z);
         int base = 0;
         for (const Group& g : m_groups) {
-            // The same expressions, in the same order, as Sphere::intersect_t.
-            const Float4 ocx = g.cx - ox, ocy = g.cy - oy, ocz = g.cz - oz;
-            const Float4 tc = ocx * dx + ocy * dy + ocz * dz;
-            const Float4 oc2 = ocx * ocx + ocy * ocy + ocz * ocz;
-            const Float4 r2 = g.radius * g.radius;
-            const Int4 behind = (tc < -g.radius) & (oc2 > r2 * 1.01f);
-            const Int4 wide = oc2 - tc * tc > r2 * 1.01f + 1e-5f * oc2;
-            const Int4 pass = g.valid & ~(behind | wide);
+            const Int4 pass = g.valid & ~sphere_surely_missed(g.cx - ox, g.cy - oy, g.cz - oz, dx, dy, dz, g.radius);
             // Most rays pass no sphere: one test of the whole mask (as two 64-bit halves).
             using Long2 = std::int64_t __attribute__((vector_size(16)));
             const Long2 halves = std::bit_cast<Long2>(pass);
