@@ -13,6 +13,8 @@ set(SPT_CORE_SOURCES
     src/io/png_writer.cpp
     src/io/ppm_writer.cpp
     src/render/bdpt.cpp
+    src/render/photon_grid.cpp
+    src/render/vertex_merging.cpp
     src/render/bsdf.cpp
     src/render/checkpoint.cpp
     src/render/film.cpp

@@ -32,6 +32,14 @@ extern "C" void on_signal(int sig) {
     g_cancel.store(true);
 }
 
+const char* integrator_name(spt::IntegratorKind kind) {
+    switch (kind) {
+        case spt::IntegratorKind::bdpt: return "bdpt";
+        case spt::IntegratorKind::vcm: return "vcm";
+        default: return "path";
+    }
+}
+
 void print_summary(const spt::Scene& scene, const spt::RenderSettings& rs, const spt::RenderStats& st,
                    const spt::Film& film, const std::string& bins) {
     const double s = st.seconds > 0 ? st.seconds : 1e-9;
@@ -41,7 +49,7 @@ void print_summary(const spt::Scene& scene, const spt::RenderSettings& rs, const
                  "  effects: %s\n"
                  "  rejected samples: %llu non-finite, %llu negative\n",
                  scene.name.c_str(), rs.width, rs.height, rs.spp, bins.c_str(), rs.threads,
-                 rs.integrator.kind == spt::IntegratorKind::bdpt ? "bdpt" : "path", st.seconds,
+                 integrator_name(rs.integrator.kind), st.seconds,
                  double(st.paths) / s, double(st.rays) / s, double(st.rays),
                  scene.effects.describe().c_str(),
                  static_cast<unsigned long long>(film.rejected_nonfinite()),
@@ -101,7 +109,10 @@ int run(const spt::Options& opt) {
     rs.threads = opt.threads > 0 ? opt.threads
                                  : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
     rs.integrator.max_depth = opt.max_depth;
-    rs.integrator.kind = opt.integrator == "bdpt" ? spt::IntegratorKind::bdpt : spt::IntegratorKind::path;
+    rs.integrator.kind = opt.integrator == "bdpt"  ? spt::IntegratorKind::bdpt
+                         : opt.integrator == "vcm" ? spt::IntegratorKind::vcm
+                                                   : spt::IntegratorKind::path;
+    rs.integrator.merge_radius = static_cast<float>(opt.merge_radius);
     rs.integrator.wavelengths_per_path = opt.wavelengths_per_path;
     rs.pass_spp = opt.pass_spp;
     rs.time_limit = opt.time_limit;

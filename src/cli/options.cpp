@@ -59,8 +59,13 @@ Options:
   --wavelengths-per-path K   4 (default: hero wavelength set) or 1 (hero alone)
   --no-dispersion        give dispersive glass its mean index over 380-780 nm (to measure
                          what dispersion costs)
-  --integrator NAME      path (default: unidirectional path tracing) or bdpt
-                         (bidirectional: light and camera subpaths combined by MIS)
+  --integrator NAME      path (default: unidirectional path tracing), bdpt
+                         (bidirectional: light and camera subpaths combined by MIS) or vcm
+                         (bdpt plus vertex merging: photon density estimation as one more
+                         MIS strategy, for caustics seen through glass; consistent, the
+                         radius shrinks with the passes)
+  --merge-radius R       vcm: merging radius of the first pass in scene units (default:
+                         five pixel footprints at the median distance the camera sees)
   --max-depth D          maximum scattering events per path (0 to 100000; default unbounded)
   --time-limit SECONDS   render whole passes until the next one would end after SECONDS
                          (at least one pass); --spp is then the most it renders. For
@@ -171,9 +176,11 @@ Options parse_options(const std::vector<std::string>& args) {
             o.wavelengths_per_path = v == "1" ? 1 : 4;
         } else if (flag == "--integrator") {
             const std::string v = next_value();
-            if (v != "path" && v != "bdpt")
-                throw UsageError(flag + ": expected path or bdpt, got '" + v + "'");
+            if (v != "path" && v != "bdpt" && v != "vcm")
+                throw UsageError(flag + ": expected path, bdpt or vcm, got '" + v + "'");
             o.integrator = v;
+        } else if (flag == "--merge-radius") {
+            o.merge_radius = parse_real(flag, next_value(), 1e-12, 1e12, "a radius from 1e-12 to 1e12");
         } else if (flag == "--no-dispersion") {
             o.dispersion = false;
         } else if (flag == "--pass-spp") {

@@ -26,7 +26,8 @@ struct Options {
     int threads = 0;
     std::uint64_t seed = 0;
     int max_depth = -1;
-    std::string integrator = "path";  ///< path or bdpt
+    std::string integrator = "path";  ///< path, bdpt or vcm
+    double merge_radius = 0;          ///< vcm's first radius; 0: automatic
     int wavelengths_per_path = 4;  ///< 1 or 4
     bool dispersion = true;        ///< false: dispersive glass gets its mean index
     int pass_spp = 0;  ///< samples per pass (0: automatic); does not change the image

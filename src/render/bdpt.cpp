@@ -9,27 +9,9 @@ namespace spt {
 
 namespace {
 
-enum class VertexType : unsigned char { camera, light, surface };
 enum class Transport : unsigned char { radiance, importance };
-
-struct Vertex {
-    VertexType type = VertexType::surface;
-    Hit hit;  ///< position, error bound, normal (zero: camera or point light), material
-    Vec3 wo;  ///< towards the previous vertex of its own subpath (surface vertices)
-    SampledSpectrum beta;
-    float pdf_fwd = 0.f;  ///< area density of this vertex, sampled from its predecessor
-    float pdf_rev = 0.f;  ///< area density of this vertex, sampled from its successor
-    bool delta = false;          ///< a specular lobe was sampled here
-    bool delta_light = false;    ///< point light origin (delta position)
-    bool terminated = false;     ///< a dispersive refraction happened before this vertex
-    /// The environment (a light vertex at infinity, measured by direction): `dir` is the unit
-    /// direction from the scene towards it, and hit.p is not used.
-    bool infinite = false;
-    Vec3 dir;
-
-    const Vec3& p() const { return hit.p; }
-    bool on_surface() const { return hit.n.x != 0.f || hit.n.y != 0.f || hit.n.z != 0.f; }
-};
+using Vertex = BdptVertex;
+using VertexType = BdptVertexType;
 
 /// Unit direction from one vertex towards another (a vertex at infinity is a direction).
 Vec3 direction(const Vertex& from, const Vertex& to) {
@@ -54,24 +36,46 @@ float convert_density(float pdf, const Vertex& from, const Vertex& to) {
 
 class Bdpt {
 public:
+    /// eta: merging's density relative to a connection (MergeContext::eta); 0 without merging.
     Bdpt(const BdptContext& ctx, const SampledWavelengths& lambda, Rng& rng, PathStats& stats,
-         std::vector<Vertex>& light, std::vector<Vertex>& camera)
+         std::vector<Vertex>& light, std::vector<Vertex>& camera, float eta = 0.f)
         : m_ctx(ctx), m_scene(ctx.scene), m_lambda(lambda), m_rng(rng), m_stats(stats),
-          m_hero(lambda.lambda[0]), m_light(light), m_camera(camera) {}
+          m_hero(lambda.lambda[0]), m_eta(eta), m_light(light), m_camera(camera) {}
 
+    /// One bidirectional sample: both subpaths, every strategy.
     SampledSpectrum run(const Ray& ray, std::vector<Splat>& splats);
+    /// Replaces the light subpath by a new one.
+    void trace_light();
+    /// Replaces the camera subpath: the pinhole, then the walk along `ray` (none if null).
+    void trace_camera(const Ray* ray);
+    /// The light-to-camera strategies (t = 1) of the current subpaths, as splats.
+    void splat_light_tracing(std::vector<Splat>& splats);
+    /// The strategies with t ≥ 2 of the current subpaths.
+    SampledSpectrum connect();
+    /// Merges each camera vertex with the photons around it.
+    SampledSpectrum merge(const MergeContext& merge);
+    /// Everything connect() and merge() found so far, for Film::add_sample.
+    SampledSpectrum result() const;
 
 private:
     bool connectible(const Vertex& v) const {
         return v.type != VertexType::surface || m_scene.materials[v.hit.material].has_diffuse();
+    }
+    /// Whether merging may happen at v: a surface vertex with a diffuse lobe.
+    bool mergeable(const Vertex& v) const {
+        return v.type == VertexType::surface && !v.infinite && m_scene.materials[v.hit.material].has_diffuse();
     }
     void random_walk(Ray ray, SampledSpectrum beta, float pdf_dir, int max_vertices, Transport mode,
                      SampledWavelengths& lambda, std::vector<Vertex>& path);
     float pdf(const Vertex& v, const Vertex* prev, const Vertex& next) const;
     float light_direction_pdf(const Vertex& light, const Vertex& next) const;
     float mis_weight(int s, int t);
+    float merge_weight(int s, int t);
+    float other_strategies(int s, int t, int camera_stop) const;
     bool visible(const Vertex& a, const Vertex& b);
     SampledSpectrum f(const Vertex& v, const Vec3& wi, const SampledWavelengths& lambda) const;
+    int max_depth() const;
+    void accumulate(const SampledSpectrum& c, bool terminated);
 
     const BdptContext& m_ctx;
     const Scene& m_scene;
@@ -79,9 +83,11 @@ private:
     Rng& m_rng;
     PathStats& m_stats;
     float m_hero;
+    float m_eta;
     std::vector<Vertex>& m_light;   ///< light subpath: the origin, then surface vertices
     std::vector<Vertex>& m_camera;  ///< camera subpath: the pinhole, surface vertices, and the
                                     ///< environment when the last ray escaped
+    SampledSpectrum m_L_full{0.f}, m_L_hero{0.f};  ///< contributions, by whether they kept the companions
 };
 
 /// Extends `path` from its last vertex along `ray`. pdf_dir is the density of the ray's
@@ -201,26 +207,73 @@ float Bdpt::mis_weight(int s, int t) {
     int camera_stop = 0;  // camera vertices i > camera_stop may belong to the light subpath
     if (s == 0 && pt->infinite && pt_minus && pt_minus->pdf_rev == 0.f) camera_stop = t - 2;
     if (s == 1 && qs->infinite && pt->pdf_rev == 0.f) camera_stop = t - 1;
-
-    auto remap0 = [](float x) { return x != 0.f ? x : 1.f; };
-    float sum_ri = 0.f, ri = 1.f;
-    for (int i = t - 1; i > camera_stop; --i) {
-        ri *= remap0(m_camera[i].pdf_rev) / remap0(m_camera[i].pdf_fwd);
-        if (!m_camera[i].delta && !m_camera[i - 1].delta) sum_ri += ri;
-    }
-    ri = 1.f;
-    for (int i = s - 1; i >= 0; --i) {
-        ri *= remap0(m_light[i].pdf_rev) / remap0(m_light[i].pdf_fwd);
-        const bool delta_before = i > 0 ? m_light[i - 1].delta : m_light[0].delta_light;
-        if (!m_light[i].delta && !delta_before) sum_ri += ri;
-    }
+    const float others = other_strategies(s, t, camera_stop);
 
     pt->pdf_rev = saved[0];
     if (pt_minus) pt_minus->pdf_rev = saved[1];
     if (qs) qs->pdf_rev = saved[2], qs->delta = saved_delta[1];
     if (qs_minus) qs_minus->pdf_rev = saved[3];
     pt->delta = saved_delta[0];
-    const float w = 1.f / (1.f + sum_ri);
+    const float w = 1.f / (1.f + others);
+    return std::isfinite(w) ? w : 0.f;
+}
+
+/// The sum of the densities of every other strategy for the path of light prefix s and camera
+/// prefix t, relative to the density of (s, t): connections at each split whose two vertices
+/// are not delta and, with merging, merges at each mergeable vertex that is not delta (a
+/// merge at x has the density of the connection whose light prefix ends at x, times the
+/// camera side's density of x, times eta).
+float Bdpt::other_strategies(int s, int t, int camera_stop) const {
+    auto remap0 = [](float x) { return x != 0.f ? x : 1.f; };
+    const bool merging = m_eta > 0.f;
+    float sum = 0.f, ri = 1.f;
+    for (int i = t - 1; i > camera_stop; --i) {
+        const Vertex& v = m_camera[i];
+        // With s = 0 the last camera vertex is the light's origin: no merge there.
+        if (merging && !v.delta && !(s == 0 && i == t - 1) && mergeable(v)) sum += ri * remap0(v.pdf_rev) * m_eta;
+        ri *= remap0(v.pdf_rev) / remap0(v.pdf_fwd);
+        if (!v.delta && !m_camera[i - 1].delta) sum += ri;
+    }
+    ri = 1.f;
+    for (int i = s - 1; i >= 0; --i) {
+        const Vertex& v = m_light[i];
+        if (merging && i >= 1 && !v.delta && mergeable(v)) sum += ri * remap0(v.pdf_rev) * m_eta;
+        ri *= remap0(v.pdf_rev) / remap0(v.pdf_fwd);
+        const bool delta_before = i > 0 ? m_light[i - 1].delta : m_light[0].delta_light;
+        if (!v.delta && !delta_before) sum += ri;
+    }
+    return sum;
+}
+
+/// MIS weight of merging camera vertex c = m_camera[t − 1] with photon q = m_light[s − 1]
+/// (s ≥ 2, t ≥ 2). The merged path is the light prefix up to q followed by the camera prefix
+/// before c (c and q coincide within the radius); its densities are taken relative to the
+/// connection of q with m_camera[t − 2], which is itself a strategy only if that vertex is
+/// not delta. The camera's density of q is that of c.
+float Bdpt::merge_weight(int s, int t) {
+    auto remap0 = [](float x) { return x != 0.f ? x : 1.f; };
+    Vertex& q = m_light[s - 1];
+    Vertex& q_minus = m_light[s - 2];
+    const Vertex& c = m_camera[t - 1];
+    Vertex& pt = m_camera[t - 2];
+    Vertex* pt_minus = t > 2 ? &m_camera[t - 3] : nullptr;
+
+    const float saved[4] = {pt.pdf_rev, pt_minus ? pt_minus->pdf_rev : 0.f, q.pdf_rev, q_minus.pdf_rev};
+    const bool saved_delta = q.delta;
+    q.delta = false;
+    q.pdf_rev = c.pdf_fwd;
+    q_minus.pdf_rev = pdf(q, &pt, q_minus);
+    if (pt.type == VertexType::surface) pt.pdf_rev = pdf(q, &q_minus, pt);
+    if (pt_minus && !pt.delta) pt_minus->pdf_rev = pdf(pt, &q, *pt_minus);
+    const bool reference_exists = pt.type != VertexType::surface || !pt.delta;
+    const float others = other_strategies(s, t - 1, 0);
+
+    pt.pdf_rev = saved[0];
+    if (pt_minus) pt_minus->pdf_rev = saved[1];
+    q.pdf_rev = saved[2];
+    q_minus.pdf_rev = saved[3];
+    q.delta = saved_delta;
+    const float w = remap0(c.pdf_fwd) * m_eta / ((reference_exists ? 1.f : 0.f) + others);
     return std::isfinite(w) ? w : 0.f;
 }
 
@@ -234,69 +287,98 @@ bool Bdpt::visible(const Vertex& a, const Vertex& b) {
     return !m_scene.occluded({o, d / dist, dist * (1.f - 1e-4f)});
 }
 
-SampledSpectrum Bdpt::run(const Ray& camera_ray, std::vector<Splat>& splats) {
-    const IntegratorSettings& settings = m_ctx.settings;
-    const int max_depth = settings.max_depth == IntegratorSettings::kUnbounded ? INT_MAX / 4 : settings.max_depth;
-    const bool start_terminated = m_lambda.secondary_terminated();
-    SampledWavelengths lambda_light = m_lambda, lambda_camera = m_lambda;
-    m_light.clear();
-    m_camera.clear();
+int Bdpt::max_depth() const {
+    const int d = m_ctx.settings.max_depth;
+    return d == IntegratorSettings::kUnbounded ? INT_MAX / 4 : d;
+}
 
-    // ---- Light subpath (importance transport), traced first ----
+void Bdpt::trace_light() {
+    SampledWavelengths lambda_light = m_lambda;  // its own termination state
+    m_light.clear();
     const float ul = m_rng.uniform(), ul1 = m_rng.uniform(), ul2 = m_rng.uniform(),
                 ul3 = m_rng.uniform(), ul4 = m_rng.uniform(), ul5 = m_rng.uniform();
-    if (const std::optional<LightOrigin> o = m_ctx.lights.sample(lambda_light, ul, ul1, ul2, ul3, ul4, ul5)) {
-        Vertex v;
-        v.type = VertexType::light;
-        if (o->environment) {
-            // The origin is the direction (pdf_dir, choice included); the disk point only
-            // starts the walk, its planar density pdf_pos going to the first hit (pbrt-v3).
-            v.infinite = true;
-            v.dir = -o->w;
-            v.beta = o->Le / o->pdf_dir;
-            v.pdf_fwd = o->pdf_dir;
-            m_light.push_back(v);
-            if (!o->blocked)
-                random_walk({o->p, o->w, kInfinity}, o->Le / (o->pdf_pos * o->pdf_dir), o->pdf_pos, max_depth + 1,
-                            Transport::importance, lambda_light, m_light);
-        } else {
-            v.hit.p = o->p;
-            v.hit.p_err = o->p_err;
-            v.hit.n = o->n;
-            v.beta = o->Le / o->pdf_pos;
-            v.pdf_fwd = o->pdf_pos;
-            v.delta_light = o->delta_position;
-            m_light.push_back(v);
-            const float cos_o = o->delta_position ? 1.f : std::fabs(dot(o->n, o->w));
-            const SampledSpectrum beta = o->Le * (cos_o / (o->pdf_pos * o->pdf_dir));
-            const Ray ray{offset_ray_origin(o->p, o->p_err, o->n, o->w), o->w, kInfinity};
-            random_walk(ray, beta, o->pdf_dir, max_depth + 1, Transport::importance, lambda_light, m_light);
-        }
+    const std::optional<LightOrigin> o = m_ctx.lights.sample(lambda_light, ul, ul1, ul2, ul3, ul4, ul5);
+    if (!o) return;
+    Vertex v;
+    v.type = VertexType::light;
+    if (o->environment) {
+        // The origin is the direction (pdf_dir, choice included); the disk point only
+        // starts the walk, its planar density pdf_pos going to the first hit (pbrt-v3).
+        v.infinite = true;
+        v.dir = -o->w;
+        v.beta = o->Le / o->pdf_dir;
+        v.pdf_fwd = o->pdf_dir;
+        m_light.push_back(v);
+        if (!o->blocked)
+            random_walk({o->p, o->w, kInfinity}, o->Le / (o->pdf_pos * o->pdf_dir), o->pdf_pos, max_depth() + 1,
+                        Transport::importance, lambda_light, m_light);
+        return;
     }
+    v.hit.p = o->p;
+    v.hit.p_err = o->p_err;
+    v.hit.n = o->n;
+    v.beta = o->Le / o->pdf_pos;
+    v.pdf_fwd = o->pdf_pos;
+    v.delta_light = o->delta_position;
+    m_light.push_back(v);
+    const float cos_o = o->delta_position ? 1.f : std::fabs(dot(o->n, o->w));
+    const SampledSpectrum beta = o->Le * (cos_o / (o->pdf_pos * o->pdf_dir));
+    const Ray ray{offset_ray_origin(o->p, o->p_err, o->n, o->w), o->w, kInfinity};
+    random_walk(ray, beta, o->pdf_dir, max_depth() + 1, Transport::importance, lambda_light, m_light);
+}
 
-    // ---- Camera subpath (radiance transport) ----
-    {
-        Vertex v;
-        v.type = VertexType::camera;
-        v.hit.p = m_ctx.camera.origin();
-        v.beta = SampledSpectrum(1.f);
-        m_camera.push_back(v);
-        const float pdf_dir = m_ctx.camera.direction_pdf(dot(camera_ray.d, m_ctx.camera.forward()));
-        random_walk(camera_ray, SampledSpectrum(1.f), pdf_dir, max_depth + 2, Transport::radiance,
-                    lambda_camera, m_camera);
+void Bdpt::trace_camera(const Ray* camera_ray) {
+    SampledWavelengths lambda_camera = m_lambda;
+    m_camera.clear();
+    Vertex v;
+    v.type = VertexType::camera;
+    v.hit.p = m_ctx.camera.origin();
+    v.beta = SampledSpectrum(1.f);
+    m_camera.push_back(v);
+    if (!camera_ray) return;
+    const float pdf_dir = m_ctx.camera.direction_pdf(dot(camera_ray->d, m_ctx.camera.forward()));
+    random_walk(*camera_ray, SampledSpectrum(1.f), pdf_dir, max_depth() + 2, Transport::radiance,
+                lambda_camera, m_camera);
+}
+
+void Bdpt::splat_light_tracing(std::vector<Splat>& splats) {
+    const Vertex& pt = m_camera[0];
+    const int n_light = static_cast<int>(m_light.size());
+    for (int s = 2; s <= n_light && s - 1 <= max_depth(); ++s) {
+        const Vertex& qs = m_light[s - 1];
+        if (!connectible(qs)) continue;  // a sampled specular lobe does not matter here
+        // Light vertex seen by the pinhole: a splat on the pixel it projects to.
+        const Vec3 to_camera = pt.p() - qs.p();
+        const float dist2 = length_squared(to_camera);
+        if (!(dist2 > 0.f)) continue;
+        const Vec3 w_cam = to_camera / std::sqrt(dist2);  // from qs to the camera
+        float px, py;
+        if (!m_ctx.camera.raster_position(-w_cam, px, py)) continue;
+        const float cos_cam = dot(-w_cam, m_ctx.camera.forward());
+        SampledSpectrum c = qs.beta * (m_ctx.camera.importance(cos_cam) * cos_cam / dist2);
+        if (qs.type == VertexType::surface) c *= f(qs, w_cam, m_lambda);
+        if (qs.on_surface()) c *= std::fabs(dot(qs.hit.n, w_cam));
+        if (c.is_zero() || !visible(qs, pt)) continue;
+        c *= mis_weight(s, 1);
+        SampledWavelengths lw = m_lambda;
+        if (qs.terminated) lw.terminate_secondary();
+        const Xyz xyz = Cie1931::get().to_xyz(c, lw);
+        const auto pixel = static_cast<std::uint32_t>(static_cast<int>(py) * m_ctx.width + static_cast<int>(px));
+        splats.push_back({pixel, static_cast<float>(xyz.x), static_cast<float>(xyz.y), static_cast<float>(xyz.z)});
     }
+}
 
-    // ---- Every connection, sorted by whether it kept the companions ----
-    SampledSpectrum L_full(0.f), L_hero(0.f);
-    auto accumulate = [&](const SampledSpectrum& c, bool terminated) {
-        if (terminated && !start_terminated) L_hero[0] += c[0];
-        else L_full += c;
-    };
+void Bdpt::accumulate(const SampledSpectrum& c, bool terminated) {
+    if (terminated && !m_lambda.secondary_terminated()) m_L_hero[0] += c[0];
+    else m_L_full += c;
+}
+
+SampledSpectrum Bdpt::connect() {
     const int n_light = static_cast<int>(m_light.size()), n_camera = static_cast<int>(m_camera.size());
-    for (int t = 1; t <= n_camera; ++t) {
+    for (int t = 2; t <= n_camera; ++t) {
         for (int s = 0; s <= n_light; ++s) {
             const int depth = s + t - 2;
-            if ((s == 1 && t == 1) || depth < 0 || depth > max_depth) continue;
+            if (depth > max_depth()) continue;
             const Vertex& pt = m_camera[t - 1];
             const bool terminated = pt.terminated || (s > 0 && m_light[s - 1].terminated);
             if (pt.infinite) {
@@ -319,11 +401,10 @@ SampledSpectrum Bdpt::run(const Ray& camera_ray, std::vector<Splat>& splats) {
                 continue;
             }
             const Vertex& qs = m_light[s - 1];
-            if (!connectible(qs)) continue;  // a sampled specular lobe does not matter here
+            if (!connectible(qs) || !connectible(pt)) continue;
             if (qs.infinite) {
                 // s = 1 on the environment: towards the light subpath's direction (uniform over
                 // the sphere, density environment_pdf), unoccluded to infinity.
-                if (!connectible(pt)) continue;
                 SampledSpectrum c = qs.beta * pt.beta * f(pt, qs.dir, m_lambda) * std::fabs(dot(pt.hit.n, qs.dir));
                 if (c.is_zero()) continue;
                 ++m_stats.rays;
@@ -331,29 +412,6 @@ SampledSpectrum Bdpt::run(const Ray& camera_ray, std::vector<Splat>& splats) {
                 accumulate(c * mis_weight(1, t), terminated);
                 continue;
             }
-            if (t == 1) {
-                // Light vertex seen by the pinhole: a splat on the pixel it projects to.
-                const Vec3 to_camera = pt.p() - qs.p();
-                const float dist2 = length_squared(to_camera);
-                if (!(dist2 > 0.f)) continue;
-                const Vec3 w_cam = to_camera / std::sqrt(dist2);  // from qs to the camera
-                float px, py;
-                if (!m_ctx.camera.raster_position(-w_cam, px, py)) continue;
-                const float cos_cam = dot(-w_cam, m_ctx.camera.forward());
-                SampledSpectrum c = qs.beta * (m_ctx.camera.importance(cos_cam) * cos_cam / dist2);
-                if (qs.type == VertexType::surface) c *= f(qs, w_cam, m_lambda);
-                if (qs.on_surface()) c *= std::fabs(dot(qs.hit.n, w_cam));
-                if (c.is_zero() || !visible(qs, pt)) continue;
-                c *= mis_weight(s, 1);
-                SampledWavelengths lw = m_lambda;
-                if (terminated) lw.terminate_secondary();
-                const Xyz xyz = Cie1931::get().to_xyz(c, lw);
-                const auto pixel = static_cast<std::uint32_t>(static_cast<int>(py) * m_ctx.width + static_cast<int>(px));
-                splats.push_back({pixel, static_cast<float>(xyz.x), static_cast<float>(xyz.y),
-                                  static_cast<float>(xyz.z)});
-                continue;
-            }
-            if (!connectible(pt)) continue;
             const Vec3 d = qs.p() - pt.p();
             const float dist2 = length_squared(d);
             if (!(dist2 > 0.f)) continue;
@@ -366,10 +424,46 @@ SampledSpectrum Bdpt::run(const Ray& camera_ray, std::vector<Splat>& splats) {
             accumulate(c * mis_weight(s, t), terminated);
         }
     }
-    // Strategies that kept only the hero count as after terminate_secondary() (pdf₀/K): fold
-    // them into the hero channel of the unterminated set, which the film weighs by 1/(K·pdf₀).
-    L_full[0] += static_cast<float>(kLambdaCount) * L_hero[0];
-    return L_full;
+    return result();
+}
+
+SampledSpectrum Bdpt::merge(const MergeContext& mc) {
+    const float inv_eta = 1.f / mc.eta;
+    const int n_camera = static_cast<int>(m_camera.size());
+    for (int t = 2; t <= n_camera; ++t) {
+        if (!mergeable(m_camera[t - 1])) continue;
+        const Vec3 p = m_camera[t - 1].p();
+        mc.grid.query(p, [&](std::uint32_t j, float) {
+            const MergeContext::Photon& ph = mc.photons[j];
+            const Vertex& q = mc.vertices[ph.vertex];
+            const Vertex& c = m_camera[t - 1];
+            const int s = static_cast<int>(ph.vertex - ph.begin) + 1;
+            // Only photons on surfaces facing the same way (not the other side of a thin wall
+            // or a corner's other face), and within the depth limit (a merge at (s, t) has
+            // the depth of the connection (s, t − 1)).
+            if (s + t - 3 > max_depth() || dot(q.hit.n, c.hit.n) < 0.5f) return;
+            const SampledSpectrum contribution = c.beta * f(c, q.wo, m_lambda) * q.beta;
+            if (contribution.is_zero()) return;
+            m_light.assign(mc.vertices.begin() + ph.begin, mc.vertices.begin() + ph.vertex + 1);
+            accumulate(contribution * (merge_weight(s, t) * inv_eta), c.terminated || q.terminated);
+        });
+    }
+    return result();
+}
+
+// Strategies that kept only the hero count as after terminate_secondary() (pdf₀/K): fold
+// them into the hero channel of the unterminated set, which the film weighs by 1/(K·pdf₀).
+SampledSpectrum Bdpt::result() const {
+    SampledSpectrum L = m_L_full;
+    L[0] += static_cast<float>(kLambdaCount) * m_L_hero[0];
+    return L;
+}
+
+SampledSpectrum Bdpt::run(const Ray& camera_ray, std::vector<Splat>& splats) {
+    trace_light();
+    trace_camera(&camera_ray);
+    splat_light_tracing(splats);
+    return connect();
 }
 
 }  // namespace
@@ -380,6 +474,28 @@ SampledSpectrum trace_bdpt(const BdptContext& ctx, const Ray& ray, const Sampled
     thread_local std::vector<Vertex> light_storage, camera_storage;
     Bdpt bdpt(ctx, lambda, rng, stats, light_storage, camera_storage);
     return bdpt.run(ray, splats);
+}
+
+void trace_light_subpath(const BdptContext& ctx, const SampledWavelengths& lambda, float eta, Rng& rng,
+                         PathStats& stats, std::vector<BdptVertex>& out, std::vector<Splat>& splats) {
+    thread_local std::vector<Vertex> light_storage, camera_storage;
+    Bdpt bdpt(ctx, lambda, rng, stats, light_storage, camera_storage, eta);
+    bdpt.trace_light();
+    bdpt.trace_camera(nullptr);
+    bdpt.splat_light_tracing(splats);
+    out.insert(out.end(), light_storage.begin(), light_storage.end());
+}
+
+SampledSpectrum trace_camera_subpath(const BdptContext& ctx, const MergeContext& merge,
+                                     std::uint32_t light_path, const Ray& ray,
+                                     const SampledWavelengths& lambda, Rng& rng, PathStats& stats) {
+    thread_local std::vector<Vertex> light_storage, camera_storage;
+    Bdpt bdpt(ctx, lambda, rng, stats, light_storage, camera_storage, merge.eta);
+    bdpt.trace_camera(&ray);
+    light_storage.assign(merge.vertices.begin() + merge.path_begin[light_path],
+                         merge.vertices.begin() + merge.path_begin[light_path + 1]);
+    bdpt.connect();
+    return bdpt.merge(merge);
 }
 
 }  // namespace spt

@@ -30,9 +30,11 @@
 #include <vector>
 
 #include "core/rng.h"
+#include "render/bdpt_vertex.h"
 #include "render/camera.h"
 #include "render/integrator.h"
 #include "render/light_sampling.h"
+#include "render/photon_grid.h"
 #include "spectral/cie.h"
 
 namespace spt {
@@ -50,6 +52,37 @@ struct BdptContext {
     const IntegratorSettings& settings;
     int width;  ///< film width, for splat pixel indices
 };
+
+/// Vertex merging (bidirectional path tracing with photon density estimation, Georgiev et al.
+/// 2012 "VCM"): the light subpaths of a whole pass, traced before any camera subpath, and a
+/// grid over their mergeable vertices (photons). A camera vertex merges with every photon
+/// within the radius r; merging is one more strategy in the MIS sums, with a density
+/// π r² × (light subpaths in the pass) times that of the connection it replaces (`eta`).
+/// Every subpath of the pass uses the same wavelengths, so photons and camera paths agree.
+struct MergeContext {
+    struct Photon {
+        std::uint32_t vertex;  ///< index of the photon's vertex in `vertices`
+        std::uint32_t begin;   ///< index of the first vertex of its subpath
+    };
+    const std::vector<BdptVertex>& vertices;       ///< the pass's light subpaths, one after another
+    const std::vector<std::uint32_t>& path_begin;  ///< subpath i is [path_begin[i], path_begin[i + 1])
+    const std::vector<Photon>& photons;            ///< grid point j is photons[j]
+    const PhotonGrid& grid;
+    float eta;  ///< π r² × light subpaths in the pass
+};
+
+/// Vertex merging, first phase: traces one light subpath at `lambda` (the pass's wavelengths),
+/// appends its vertices to `out` and its light-to-camera (t = 1) contributions to `splats`,
+/// weighted with merging among the strategies (`eta` as in MergeContext).
+void trace_light_subpath(const BdptContext& ctx, const SampledWavelengths& lambda, float eta, Rng& rng,
+                         PathStats& stats, std::vector<BdptVertex>& out, std::vector<Splat>& splats);
+
+/// Vertex merging, second phase: the camera subpath for `ray`, connected to light subpath
+/// `light_path` of the pass (every strategy with t ≥ 2) and merged with the photons around
+/// each of its vertices. Returns what to add to the ray's pixel, like trace_bdpt.
+SampledSpectrum trace_camera_subpath(const BdptContext& ctx, const MergeContext& merge,
+                                     std::uint32_t light_path, const Ray& ray,
+                                     const SampledWavelengths& lambda, Rng& rng, PathStats& stats);
 
 /// One bidirectional sample for the camera ray `ray` (at wavelengths `lambda`, not modified).
 /// Returns what to add to the ray's pixel with Film::add_sample(…, lambda) (strategies that

@@ -9,9 +9,10 @@
 
 namespace spt {
 
-/// Which estimator renders the image: unidirectional path tracing (the default) or
-/// bidirectional path tracing (bdpt.h).
-enum class IntegratorKind { path, bdpt };
+/// Which estimator renders the image: unidirectional path tracing (the default),
+/// bidirectional path tracing (bdpt.h), or bidirectional path tracing with vertex merging
+/// (vcm: bdpt.h, vertex_merging.h).
+enum class IntegratorKind { path, bdpt, vcm };
 
 struct IntegratorSettings {
     static constexpr int kUnbounded = -1;
@@ -22,6 +23,10 @@ struct IntegratorSettings {
     /// 4: the hero wavelength set (default); 1: the hero alone, for measuring what the
     /// companions save (the film weights stay unbiased either way).
     int wavelengths_per_path = kLambdaCount;
+    /// vcm: merging radius of the first pass in scene units; 0 chooses five pixel footprints
+    /// (default_merge_radius in vertex_merging.h). Pass k uses r·(k + 1)^(−1/8) (progressive photon mapping
+    /// with α = 3/4: the bias vanishes as passes accumulate).
+    float merge_radius = 0.f;
 };
 
 struct PathStats {

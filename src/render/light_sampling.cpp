@@ -58,12 +58,12 @@ LightSampler::LightSampler(const Scene& scene) : m_scene(scene) {
     }
     for (int i = 0; i < static_cast<int>(scene.planes.size()); ++i)
         if (scene.materials[scene.planes[i].material].is_emissive()) m_emissive_planes.push_back(i);
+    const Aabb box = scene_bounds(scene);
+    m_center = box.centroid();
+    m_radius = 0.5f * length(box.hi - box.lo);
+    // A lone camera (only planes around it): any radius is correct (see the header).
+    if (!(m_radius > 0.f)) m_radius = 1.f;
     if (scene.effects.background) {
-        const Aabb box = scene_bounds(scene);
-        m_center = box.centroid();
-        m_radius = 0.5f * length(box.hi - box.lo);
-        // A lone camera (only planes around it): any radius is correct (see the header).
-        if (!(m_radius > 0.f)) m_radius = 1.f;
         const float p = 4.f * kPi * (kPi * m_radius * m_radius) * mean_value(scene.background);
         if (p > 0.f) m_lights.push_back({Kind::environment, -1}), power.push_back(p);
     }

@@ -90,6 +90,9 @@ public:
     /// through p (p outside the cylinder the disk sweeps, or upstream of the disk).
     float environment_position_pdf(const Vec3& p, const Vec3& d) const;
 
+    /// Radius of the bounding sphere of the finite shapes, the camera and the point lights.
+    float scene_radius() const { return m_radius; }
+
     /// Solid-angle density of emitting towards w from an area emitter of normal n.
     static float direction_pdf(const Vec3& n, const Vec3& w) { return 0.5f * std::fabs(dot(n, w)) * kInvPi; }
 

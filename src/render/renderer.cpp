@@ -10,6 +10,7 @@
 
 #include "render/bdpt.h"
 #include "render/light_sampling.h"
+#include "render/vertex_merging.h"
 #include "render/work_queue.h"
 
 namespace spt {
@@ -20,6 +21,8 @@ struct TileTask {
     int x0, y0, x1, y1;
     int first_sample, end_sample;
     int index;  ///< position of the tile in its pass (the order splats are merged in)
+    /// vcm's light phase: light subpaths [x0, x1) of sample first_sample instead of pixels
+    bool light_subpaths = false;
 };
 
 /// Merges the tiles' splats into the film in tile order, whichever thread finishes which
@@ -98,6 +101,31 @@ void render_pixel_bdpt(const BdptContext& ctx, const RenderSettings& settings, i
     }
 }
 
+/// Stream of the light subpaths of vertex merging (the camera samples use Rng(seed, pixel, s)).
+constexpr std::uint64_t kLightSubpathStream = 0x6c8e9cf570932bd5ull;
+constexpr int kLightSubpathsPerTask = 4096;
+
+/// vcm, light phase: light subpaths [first, end) of sample s, at the pass's wavelengths.
+void trace_light_subpaths(const BdptContext& ctx, const RenderSettings& settings, int first, int end, int s,
+                          const SampledWavelengths& lambda, float eta, PathStats& stats,
+                          LightSubpathBatch& batch) {
+    for (int i = first; i < end; ++i) {
+        Rng rng(settings.seed ^ kLightSubpathStream, static_cast<std::uint64_t>(i), static_cast<std::uint64_t>(s));
+        trace_light_subpath(ctx, lambda, eta, rng, stats, batch.vertices, batch.splats);
+        batch.ends.push_back(static_cast<std::uint32_t>(batch.vertices.size()));
+    }
+}
+
+/// vcm, camera phase: the pixel's sample s (Rng and jitter as the other integrators, the
+/// pass's wavelengths instead of its own), connected to light subpath y·width + x.
+void render_pixel_vcm(const BdptContext& ctx, const MergeContext& merge, const RenderSettings& settings,
+                      const SampledWavelengths& lambda, int x, int y, int s, Film& film, PathStats& stats) {
+    PixelSample ps = start_pixel_sample(settings, ctx.camera, x, y, s);
+    const auto light_path = static_cast<std::uint32_t>(y * settings.width + x);
+    const SampledSpectrum L = trace_camera_subpath(ctx, merge, light_path, ps.ray, lambda, ps.rng, stats);
+    film.add_sample(x, y, L, lambda);
+}
+
 /// Counts finished tiles so the producer can wait for the end of a pass.
 class PassLatch {
 public:
@@ -133,6 +161,9 @@ private:
 }  // namespace
 
 int effective_pass_spp(const RenderSettings& s) {
+    // Vertex merging traces the light subpaths of one sample for all pixels, then the camera
+    // subpaths: one sample per pass.
+    if (s.integrator.kind == IntegratorKind::vcm) return 1;
     if (s.pass_spp > 0) return std::min(s.pass_spp, s.spp);
     // About four million paths per pass: frequent enough for progress and interruption,
     // long enough that waiting for the last tile of a pass costs little.
@@ -167,10 +198,22 @@ RenderStats render(const Scene& scene, const RenderSettings& settings, Film& fil
     const std::uint64_t total_paths =
         std::uint64_t(settings.width) * settings.height * (settings.spp - first_sample);
 
+    const bool vcm = settings.integrator.kind == IntegratorKind::vcm;
     const bool bdpt = settings.integrator.kind == IntegratorKind::bdpt;
     std::optional<LightSampler> lights;
-    if (bdpt) lights.emplace(scene);
+    if (bdpt || vcm) lights.emplace(scene);
     SplatMerger merger(film);
+
+    // Vertex merging: the current pass's wavelengths, radius and light subpaths.
+    SampledWavelengths pass_lambda{};
+    float pass_eta = 0.f;
+    std::vector<LightSubpathBatch> batches;
+    MergePass merge_pass;
+    const float first_radius =
+        !vcm ? 0.f
+        : settings.integrator.merge_radius > 0.f
+            ? settings.integrator.merge_radius
+            : default_merge_radius(scene, camera, settings.width, settings.height, lights->scene_radius());
 
     WorkQueue<TileTask> queue;
     PassLatch latch;
@@ -184,8 +227,25 @@ RenderStats render(const Scene& scene, const RenderSettings& settings, Film& fil
             while (std::optional<TileTask> task = queue.pop()) {
                 std::uint64_t paths = 0;
                 std::vector<Splat> splats;
+                if (task->light_subpaths) {
+                    LightSubpathBatch& batch = batches[static_cast<std::size_t>(task->index)];
+                    if (!cancelled()) {
+                        const BdptContext ctx{scene, camera, *lights, settings.integrator, settings.width};
+                        trace_light_subpaths(ctx, settings, task->x0, task->x1, task->first_sample, pass_lambda,
+                                             pass_eta, local, batch);
+                    }
+                    merger.submit(task->index, std::move(batch.splats), static_cast<std::uint64_t>(task->x1 - task->x0));
+                    latch.finished_one(0);
+                    continue;
+                }
                 if (!cancelled()) {
-                    if (bdpt) {
+                    if (vcm) {
+                        const BdptContext ctx{scene, camera, *lights, settings.integrator, settings.width};
+                        const MergeContext mc = merge_pass.context();
+                        for (int y = task->y0; y < task->y1; ++y)
+                            for (int x = task->x0; x < task->x1; ++x)
+                                render_pixel_vcm(ctx, mc, settings, pass_lambda, x, y, task->first_sample, film, local);
+                    } else if (bdpt) {
                         const BdptContext ctx{scene, camera, *lights, settings.integrator, settings.width};
                         for (int y = task->y0; y < task->y1; ++y)
                             for (int x = task->x0; x < task->x1; ++x)
@@ -220,10 +280,29 @@ RenderStats render(const Scene& scene, const RenderSettings& settings, Film& fil
             }
         }
         const int end = std::min(settings.spp, first + pass_spp);
+        if (vcm) {
+            // Light phase: every light subpath of the pass, then the grid of their photons.
+            pass_lambda = pass_wavelengths(settings.seed, first);
+            if (settings.integrator.wavelengths_per_path == 1) pass_lambda.terminate_secondary();
+            const float radius = merge_radius(first_radius, first);
+            const int n = settings.width * settings.height;
+            const int tasks = (n + kLightSubpathsPerTask - 1) / kLightSubpathsPerTask;
+            pass_eta = kPi * radius * radius * static_cast<float>(n);
+            batches.assign(static_cast<std::size_t>(tasks), {});
+            latch.reset();
+            merger.reset(tasks);
+            for (int k = 0; k < tasks; ++k)
+                queue.push({k * kLightSubpathsPerTask, 0, std::min(n, (k + 1) * kLightSubpathsPerTask), 1, first,
+                            end, k, true});
+            while (!latch.wait_for(tasks, std::chrono::milliseconds(200)))
+                if (progress) progress(latch.paths(), total_paths);
+            if (cancelled()) break;
+            merge_pass.build(batches, scene, radius);
+        }
         latch.reset();
         int tiles = 0;
         const int tiles_x = (settings.width + ts - 1) / ts, tiles_y = (settings.height + ts - 1) / ts;
-        merger.reset(tiles_x * tiles_y);
+        if (!vcm) merger.reset(tiles_x * tiles_y);
         for (int y0 = 0; y0 < settings.height; y0 += ts)
             for (int x0 = 0; x0 < settings.width; x0 += ts, ++tiles)
                 queue.push({x0, y0, std::min(x0 + ts, settings.width),

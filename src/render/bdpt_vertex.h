@@ -1,0 +1,32 @@
+// A vertex of a bidirectional subpath (bdpt.h): the camera, a light origin, a surface hit or
+// the environment at infinity, with its throughput and its area densities in both directions.
+// Shared by the connection code (bdpt.cpp) and vertex merging, which keeps the light
+// subpaths of a whole pass (vertex_merging.h).
+#pragma once
+#include "geometry/ray.h"
+#include "spectral/sampled.h"
+
+namespace spt {
+
+enum class BdptVertexType : unsigned char { camera, light, surface };
+
+struct BdptVertex {
+    BdptVertexType type = BdptVertexType::surface;
+    Hit hit;  ///< position, error bound, normal (zero: camera or point light), material
+    Vec3 wo;  ///< towards the previous vertex of its own subpath (surface vertices)
+    SampledSpectrum beta;
+    float pdf_fwd = 0.f;  ///< area density of this vertex, sampled from its predecessor
+    float pdf_rev = 0.f;  ///< area density of this vertex, sampled from its successor
+    bool delta = false;          ///< a specular lobe was sampled here
+    bool delta_light = false;    ///< point light origin (delta position)
+    bool terminated = false;     ///< a dispersive refraction happened before this vertex
+    /// The environment (a light vertex at infinity, measured by direction): `dir` is the unit
+    /// direction from the scene towards it, and hit.p is not used.
+    bool infinite = false;
+    Vec3 dir;
+
+    const Vec3& p() const { return hit.p; }
+    bool on_surface() const { return hit.n.x != 0.f || hit.n.y != 0.f || hit.n.z != 0.f; }
+};
+
+}  // namespace spt

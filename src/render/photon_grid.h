@@ -1,0 +1,65 @@
+// A hashed uniform grid over points for fixed-radius searches (vertex merging's photons).
+// Cells are 2r wide, so the ball of radius r around any point overlaps at most 2×2×2 cells;
+// cells are hashed into a table about as large as the point count and the points are sorted
+// by bucket (counting sort), so a query reads a few contiguous runs. Two of the eight cells
+// may share a bucket: those buckets are visited once.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "core/vec3.h"
+
+namespace spt {
+
+class PhotonGrid {
+public:
+    /// Indexes `points` (copied) for queries of radius `radius` > 0.
+    void build(const std::vector<Vec3>& points, float radius);
+
+    /// Calls visit(i, distance²) for every point i (an index into the built vector) within the
+    /// radius of p.
+    template <class Visit>
+    void query(const Vec3& p, Visit&& visit) const {
+        if (m_points.empty()) return;
+        const float cx = (p.x - m_radius) * m_inv_cell, cy = (p.y - m_radius) * m_inv_cell,
+                    cz = (p.z - m_radius) * m_inv_cell;
+        const auto x0 = static_cast<std::int64_t>(std::floor(cx)), y0 = static_cast<std::int64_t>(std::floor(cy)),
+                   z0 = static_cast<std::int64_t>(std::floor(cz));
+        std::uint32_t buckets[8];
+        int n = 0;
+        for (int dz = 0; dz < 2; ++dz)
+            for (int dy = 0; dy < 2; ++dy)
+                for (int dx = 0; dx < 2; ++dx) {
+                    const std::uint32_t b = bucket(x0 + dx, y0 + dy, z0 + dz);
+                    bool seen = false;
+                    for (int k = 0; k < n; ++k) seen |= buckets[k] == b;
+                    if (!seen) buckets[n++] = b;
+                }
+        for (int k = 0; k < n; ++k) {
+            for (std::uint32_t j = m_begin[buckets[k]]; j < m_begin[buckets[k] + 1]; ++j) {
+                const Vec3 d = m_points[j] - p;
+                const float d2 = dot(d, d);
+                if (d2 <= m_radius2) visit(m_index[j], d2);
+            }
+        }
+    }
+
+    std::size_t size() const { return m_points.size(); }
+    float radius() const { return m_radius; }
+
+private:
+    std::uint32_t bucket(std::int64_t x, std::int64_t y, std::int64_t z) const {
+        const auto h = static_cast<std::uint64_t>(x) * 73856093u ^ static_cast<std::uint64_t>(y) * 19349663u ^
+                       static_cast<std::uint64_t>(z) * 83492791u;
+        return static_cast<std::uint32_t>(h & m_mask);
+    }
+    std::uint32_t cell_bucket(const Vec3& p) const;
+
+    float m_radius = 0.f, m_radius2 = 0.f, m_inv_cell = 0.f;
+    std::uint64_t m_mask = 0;
+    std::vector<std::uint32_t> m_begin;  ///< bucket b holds sorted entries [m_begin[b], m_begin[b+1])
+    std::vector<Vec3> m_points;          ///< points sorted by bucket
+    std::vector<std::uint32_t> m_index;  ///< their indices in the built vector
+};
+
+}  // namespace spt

@@ -1,0 +1,51 @@
+// The per-pass state of vertex merging (the vcm integrator, bdpt.h's MergeContext): the
+// light subpaths traced by the pass's tasks, gathered in task order, their photons (the
+// vertices where merging may happen) in a PhotonGrid, the pass's radius and wavelengths.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "render/bdpt.h"
+#include "render/camera.h"
+
+namespace spt {
+
+/// What one task of the light phase produced: its subpaths one after another (ends[i] is
+/// the end of its i-th subpath in `vertices`) and its light-to-camera splats.
+struct LightSubpathBatch {
+    std::vector<BdptVertex> vertices;
+    std::vector<std::uint32_t> ends;
+    std::vector<Splat> splats;
+};
+
+class MergePass {
+public:
+    /// Concatenates the batches (consumed) and indexes the photons: surface vertices after the
+    /// origin, on materials with a diffuse lobe. `eta` = π r² × the number of subpaths.
+    void build(std::vector<LightSubpathBatch>& batches, const Scene& scene, float radius);
+    MergeContext context() const { return {m_vertices, m_begin, m_photons, m_grid, m_eta}; }
+    std::size_t photon_count() const { return m_photons.size(); }
+
+private:
+    std::vector<BdptVertex> m_vertices;
+    std::vector<std::uint32_t> m_begin;
+    std::vector<MergeContext::Photon> m_photons;
+    PhotonGrid m_grid;
+    float m_eta = 0.f;
+};
+
+/// First merging radius when none is given: five times the footprint of a pixel at the
+/// median distance of what the camera sees (rays through a 16×16 grid of pixels), so the
+/// expected number of photons per merge does not depend on the resolution (N ∝ pixels, the
+/// disk ∝ 1/pixels); with nothing in view, 0.003 × the scene's bounding radius.
+float default_merge_radius(const Scene& scene, const Camera& camera, int width, int height, float scene_radius);
+
+/// Radius of pass k (0-based) for a first radius r0: r0·(k + 1)^(−1/8).
+float merge_radius(float r0, int pass);
+
+/// Wavelengths shared by every subpath of pass k: the hero from a golden-ratio sequence over
+/// passes, rotated by a seed-dependent offset (each pass's hero is uniform in u, so the
+/// estimate stays unbiased; successive passes cover the spectrum evenly).
+SampledWavelengths pass_wavelengths(std::uint64_t seed, int pass);
+
+}  // namespace spt
