@@ -297,7 +297,7 @@ RenderStats render(const Scene& scene, const RenderSettings& settings, Film& fil
             while (!latch.wait_for(tasks, std::chrono::milliseconds(200)))
                 if (progress) progress(latch.paths(), total_paths);
             if (cancelled()) break;
-            merge_pass.build(batches, scene, radius);
+            merge_pass.build(batches, scene, radius, pass_eta);
         }
         latch.reset();
         int tiles = 0;

@@ -5,7 +5,7 @@
 
 namespace spt {
 
-void MergePass::build(std::vector<LightSubpathBatch>& batches, const Scene& scene, float radius) {
+void MergePass::build(std::vector<LightSubpathBatch>& batches, const Scene& scene, float radius, float eta) {
     m_vertices.clear();
     m_begin.assign(1, 0);
     m_photons.clear();
@@ -28,8 +28,7 @@ void MergePass::build(std::vector<LightSubpathBatch>& batches, const Scene& scen
     std::vector<Vec3> points(m_photons.size());
     for (std::size_t i = 0; i < points.size(); ++i) points[i] = m_vertices[m_photons[i].vertex].p();
     m_grid.build(points, radius);
-    const auto paths = static_cast<float>(m_begin.size() - 1);
-    m_eta = kPi * radius * radius * paths;
+    m_eta = eta;
 }
 
 float default_merge_radius(const Scene& scene, const Camera& camera, int width, int height, float scene_radius) {
