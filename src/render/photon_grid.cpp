@@ -6,9 +6,7 @@
 namespace spt {
 
 std::uint32_t PhotonGrid::cell_bucket(const Vec3& p) const {
-    return bucket(static_cast<std::int64_t>(std::floor(p.x * m_inv_cell)),
-                  static_cast<std::int64_t>(std::floor(p.y * m_inv_cell)),
-                  static_cast<std::int64_t>(std::floor(p.z * m_inv_cell)));
+    return bucket(cell(p.x * m_inv_cell), cell(p.y * m_inv_cell), cell(p.z * m_inv_cell));
 }
 
 void PhotonGrid::build(const std::vector<Vec3>& points, float radius) {

@@ -4,6 +4,7 @@
 // by bucket (counting sort), so a query reads a few contiguous runs. Two of the eight cells
 // may share a bucket: those buckets are visited once.
 #pragma once
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -21,10 +22,8 @@ public:
     template <class Visit>
     void query(const Vec3& p, Visit&& visit) const {
         if (m_points.empty()) return;
-        const float cx = (p.x - m_radius) * m_inv_cell, cy = (p.y - m_radius) * m_inv_cell,
-                    cz = (p.z - m_radius) * m_inv_cell;
-        const auto x0 = static_cast<std::int64_t>(std::floor(cx)), y0 = static_cast<std::int64_t>(std::floor(cy)),
-                   z0 = static_cast<std::int64_t>(std::floor(cz));
+        const std::int64_t x0 = cell((p.x - m_radius) * m_inv_cell), y0 = cell((p.y - m_radius) * m_inv_cell),
+                           z0 = cell((p.z - m_radius) * m_inv_cell);
         std::uint32_t buckets[8];
         int n = 0;
         for (int dz = 0; dz < 2; ++dz)
@@ -46,6 +45,15 @@ public:
 
     std::size_t size() const { return m_points.size(); }
     float radius() const { return m_radius; }
+
+    /// Integer cell coordinate of x (in cell units), saturated so that the conversion is
+    /// defined for any float (huge coordinates, ±inf, NaN) and x + 1 cannot overflow.
+    static std::int64_t cell(float x) {
+        constexpr float kLimit = 0x1p62f;
+        if (!(x > -kLimit)) return -static_cast<std::int64_t>(kLimit);
+        if (!(x < kLimit)) return static_cast<std::int64_t>(kLimit);
+        return static_cast<std::int64_t>(std::floor(x));
+    }
 
 private:
     std::uint32_t bucket(std::int64_t x, std::int64_t y, std::int64_t z) const {
