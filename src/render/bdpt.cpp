@@ -34,6 +34,9 @@ float convert_density(float pdf, const Vertex& from, const Vertex& to) {
     return result;
 }
 
+/// Densities of delta events are stored as 0; in ratios they cancel, as 1.
+float remap0(float x) { return x != 0.f ? x : 1.f; }
+
 class Bdpt {
 public:
     /// eta: merging's density relative to a connection (MergeContext::eta); 0 without merging.
@@ -54,6 +57,8 @@ public:
     SampledSpectrum connect();
     /// Merges each camera vertex with the photons around it.
     SampledSpectrum merge(const MergeContext& merge);
+    /// Fills BdptVertex::mis_sum along a subpath (vertex merging's O(1) weights).
+    void prefix_sums(std::vector<Vertex>& path, bool light_side) const;
     /// Everything connect() and merge() found so far, for Film::add_sample.
     SampledSpectrum result() const;
 
@@ -70,7 +75,7 @@ private:
     float pdf(const Vertex& v, const Vertex* prev, const Vertex& next) const;
     float light_direction_pdf(const Vertex& light, const Vertex& next) const;
     float mis_weight(int s, int t);
-    float merge_weight(int s, int t);
+    float camera_merge_sum(int t) const;
     float other_strategies(int s, int t, int camera_stop) const;
     bool visible(const Vertex& a, const Vertex& b);
     SampledSpectrum f(const Vertex& v, const Vec3& wi, const SampledWavelengths& lambda) const;
@@ -222,22 +227,23 @@ float Bdpt::mis_weight(int s, int t) {
 /// prefix t, relative to the density of (s, t): connections at each split whose two vertices
 /// are not delta and, with merging, merges at each mergeable vertex that is not delta (a
 /// merge at x has the density of the connection whose light prefix ends at x, times the
-/// camera side's density of x, times eta).
+/// camera side's density of x, times eta). Merging starts at the second bounce of light
+/// (light_index ≥ 2): direct light is next-event estimation's job, and leaving those photons
+/// out halves the grid.
 float Bdpt::other_strategies(int s, int t, int camera_stop) const {
-    auto remap0 = [](float x) { return x != 0.f ? x : 1.f; };
     const bool merging = m_eta > 0.f;
     float sum = 0.f, ri = 1.f;
     for (int i = t - 1; i > camera_stop; --i) {
         const Vertex& v = m_camera[i];
-        // With s = 0 the last camera vertex is the light's origin: no merge there.
-        if (merging && !v.delta && !(s == 0 && i == t - 1) && mergeable(v)) sum += ri * remap0(v.pdf_rev) * m_eta;
+        // Merges need a light subpath of three vertices or more (light_index ≥ 2).
+        if (merging && i <= s + t - 3 && !v.delta && mergeable(v)) sum += ri * remap0(v.pdf_rev) * m_eta;
         ri *= remap0(v.pdf_rev) / remap0(v.pdf_fwd);
         if (!v.delta && !m_camera[i - 1].delta) sum += ri;
     }
     ri = 1.f;
     for (int i = s - 1; i >= 0; --i) {
         const Vertex& v = m_light[i];
-        if (merging && i >= 1 && !v.delta && mergeable(v)) sum += ri * remap0(v.pdf_rev) * m_eta;
+        if (merging && i >= 2 && !v.delta && mergeable(v)) sum += ri * remap0(v.pdf_rev) * m_eta;
         ri *= remap0(v.pdf_rev) / remap0(v.pdf_fwd);
         const bool delta_before = i > 0 ? m_light[i - 1].delta : m_light[0].delta_light;
         if (!v.delta && !delta_before) sum += ri;
@@ -245,36 +251,56 @@ float Bdpt::other_strategies(int s, int t, int camera_stop) const {
     return sum;
 }
 
-/// MIS weight of merging camera vertex c = m_camera[t − 1] with photon q = m_light[s − 1]
-/// (s ≥ 2, t ≥ 2). The merged path is the light prefix up to q followed by the camera prefix
-/// before c (c and q coincide within the radius); its densities are taken relative to the
-/// connection of q with m_camera[t − 2], which is itself a strategy only if that vertex is
-/// not delta. The camera's density of q is that of c.
-float Bdpt::merge_weight(int s, int t) {
-    auto remap0 = [](float x) { return x != 0.f ? x : 1.f; };
-    Vertex& q = m_light[s - 1];
-    Vertex& q_minus = m_light[s - 2];
+/// S_k = r_k·S_(k−1) + term_k along a subpath, with r_k = rev_k/fwd_k (delta zeros mapped
+/// to 1) and term_k the strategies that split at vertex k: a connection between k − 1 and k
+/// (neither delta: r_k) and a merge at k (rev_k·eta). S_k is other_strategies' sum for the
+/// subpath ending at k, computed once per vertex; it is exact as long as the stored reverse
+/// densities are, i.e. up to two vertices before the end a merge connects (those two are
+/// redone per merge in merge_weight). Light side: merges from light index 2; camera side:
+/// any index ≥ 1 (a merge's light side has at least three vertices).
+void Bdpt::prefix_sums(std::vector<Vertex>& path, bool light_side) const {
+    float sum = 0.f;
+    for (std::size_t k = 0; k < path.size(); ++k) {
+        Vertex& v = path[k];
+        if (!light_side && k == 0) {
+            v.mis_sum = 0.f;
+            continue;
+        }
+        const float r = remap0(v.pdf_rev) / remap0(v.pdf_fwd);
+        const bool delta_before = k > 0 ? path[k - 1].delta : v.delta_light;
+        const bool merge_here = (!light_side || k >= 2) && !v.delta && mergeable(v);
+        sum = r * sum + (merge_here ? remap0(v.pdf_rev) * m_eta : 0.f) + (!v.delta && !delta_before ? r : 0.f);
+        v.mis_sum = sum;
+    }
+}
+
+/// The camera side of the MIS sum of a merge at c = m_camera[t − 1], including the
+/// reference strategy (1 if it exists). The merged path is the photon's light prefix
+/// followed by the camera prefix before c (c and the photon coincide within the radius); its
+/// densities are taken relative to the connection of the photon with pt = m_camera[t − 2],
+/// itself a strategy only if pt is not delta. Densities that depend on both sides use c's
+/// geometry and material for the photon's (as SmallVCM does): pt's density as reached from
+/// the merged point, and pt's density of pt_minus with the light arriving from c.
+float Bdpt::camera_merge_sum(int t) const {
+    if (t < 3) return 1.f;  // pt is the camera: light tracing is the reference
     const Vertex& c = m_camera[t - 1];
-    Vertex& pt = m_camera[t - 2];
-    Vertex* pt_minus = t > 2 ? &m_camera[t - 3] : nullptr;
-
-    const float saved[4] = {pt.pdf_rev, pt_minus ? pt_minus->pdf_rev : 0.f, q.pdf_rev, q_minus.pdf_rev};
-    const bool saved_delta = q.delta;
-    q.delta = false;
-    q.pdf_rev = c.pdf_fwd;
-    q_minus.pdf_rev = pdf(q, &pt, q_minus);
-    if (pt.type == VertexType::surface) pt.pdf_rev = pdf(q, &q_minus, pt);
-    if (pt_minus && !pt.delta) pt_minus->pdf_rev = pdf(pt, &q, *pt_minus);
-    const bool reference_exists = pt.type != VertexType::surface || !pt.delta;
-    const float others = other_strategies(s, t - 1, 0);
-
-    pt.pdf_rev = saved[0];
-    if (pt_minus) pt_minus->pdf_rev = saved[1];
-    q.pdf_rev = saved[2];
-    q_minus.pdf_rev = saved[3];
-    q.delta = saved_delta;
-    const float w = remap0(c.pdf_fwd) * m_eta / ((reference_exists ? 1.f : 0.f) + others);
-    return std::isfinite(w) ? w : 0.f;
+    const Vertex& pt = m_camera[t - 2];
+    const Vertex& pt_minus = m_camera[t - 3];
+    float before_pt = 0.f;  // the sum up to pt_minus
+    if (t >= 4) {
+        const Vertex& pt_minus2 = m_camera[t - 4];
+        const float rev = remap0(pt.delta ? pt_minus.pdf_rev : pdf(pt, &c, pt_minus));
+        const float r = rev / remap0(pt_minus.pdf_fwd);
+        before_pt = r * pt_minus2.mis_sum + (!pt_minus.delta && mergeable(pt_minus) ? rev * m_eta : 0.f) +
+                    (!pt_minus.delta && !pt_minus2.delta ? r : 0.f);
+    }
+    const Material& mat = m_scene.materials[c.hit.material];
+    const float rev = remap0(convert_density(
+        diffuse_lobe_probability_hero(mat, m_hero) * std::fabs(dot(c.wo, c.hit.n)) * kInvPi, c, pt));
+    const float r = rev / remap0(pt.pdf_fwd);
+    const float camera_sum = r * before_pt + (!pt.delta && mergeable(pt) ? rev * m_eta : 0.f) +
+                             (!pt.delta && !pt_minus.delta ? r : 0.f);
+    return (pt.delta ? 0.f : 1.f) + camera_sum;
 }
 
 bool Bdpt::visible(const Vertex& a, const Vertex& b) {
@@ -427,25 +453,32 @@ SampledSpectrum Bdpt::connect() {
     return result();
 }
 
+/// Merging at camera vertex c with photon q: contribution f(c)·β_c·β_q/(π r² N) times the
+/// balance weight merge/(camera side + light side + merge), all densities relative to the
+/// connection of q with the camera vertex before c. The merge's own density is the camera's
+/// density of c times eta; the light side is the photon's light_sum times the same camera
+/// density (make_photon).
 SampledSpectrum Bdpt::merge(const MergeContext& mc) {
     const float inv_eta = 1.f / mc.eta;
     const int n_camera = static_cast<int>(m_camera.size());
     for (int t = 2; t <= n_camera; ++t) {
-        if (!mergeable(m_camera[t - 1])) continue;
-        const Vec3 p = m_camera[t - 1].p();
-        mc.grid.query(p, [&](std::uint32_t j, float) {
-            const MergeContext::Photon& ph = mc.photons[j];
-            const Vertex& q = mc.vertices[ph.vertex];
-            const Vertex& c = m_camera[t - 1];
-            const int s = static_cast<int>(ph.vertex - ph.begin) + 1;
+        const Vertex& c = m_camera[t - 1];
+        if (!mergeable(c) || c.beta.is_zero()) continue;
+        const Material& mat = m_scene.materials[c.hit.material];
+        const SampledSpectrum f_c = c.beta * mat.kd.sample(m_lambda) * kInvPi;
+        const float cos_o = dot(c.wo, c.hit.n);
+        const float camera_density = remap0(c.pdf_fwd);
+        const float merge_density = camera_density * mc.eta;
+        const float camera_side = camera_merge_sum(t) + merge_density;
+        mc.grid.query(c.p(), [&](std::uint32_t j, float) {
+            const MergeContext::Photon& q = mc.photons[j];
             // Only photons on surfaces facing the same way (not the other side of a thin wall
-            // or a corner's other face), and within the depth limit (a merge at (s, t) has
-            // the depth of the connection (s, t − 1)).
-            if (s + t - 3 > max_depth() || dot(q.hit.n, c.hit.n) < 0.5f) return;
-            const SampledSpectrum contribution = c.beta * f(c, q.wo, m_lambda) * q.beta;
-            if (contribution.is_zero()) return;
-            m_light.assign(mc.vertices.begin() + ph.begin, mc.vertices.begin() + ph.vertex + 1);
-            accumulate(contribution * (merge_weight(s, t) * inv_eta), c.terminated || q.terminated);
+            // or a corner's other face), arriving on c's side, within the depth limit (a
+            // merge at (s, t) has the depth of the connection (s, t − 1)).
+            if (q.s + t - 3 > max_depth() || dot(q.n, c.hit.n) < 0.5f || cos_o * dot(q.wo, c.hit.n) <= 0.f) return;
+            const float w = merge_density / (camera_side + camera_density * q.light_sum);
+            if (!(w > 0.f) || !std::isfinite(w)) return;
+            accumulate(f_c * q.beta * (w * inv_eta), c.terminated || q.terminated);
         });
     }
     return result();
@@ -483,6 +516,7 @@ void trace_light_subpath(const BdptContext& ctx, const SampledWavelengths& lambd
     bdpt.trace_light();
     bdpt.trace_camera(nullptr);
     bdpt.splat_light_tracing(splats);
+    bdpt.prefix_sums(light_storage, true);
     out.insert(out.end(), light_storage.begin(), light_storage.end());
 }
 
@@ -495,7 +529,35 @@ SampledSpectrum trace_camera_subpath(const BdptContext& ctx, const MergeContext&
     light_storage.assign(merge.vertices.begin() + merge.path_begin[light_path],
                          merge.vertices.begin() + merge.path_begin[light_path + 1]);
     bdpt.connect();
+    bdpt.prefix_sums(camera_storage, false);
     return bdpt.merge(merge);
+}
+
+MergeContext::Photon make_photon(const Scene& scene, const BdptVertex* path, int s, float eta, float hero_nm) {
+    const BdptVertex& q = path[s - 1];
+    const BdptVertex& q_minus = path[s - 2];
+    MergeContext::Photon photon;
+    photon.p = q.p();
+    photon.n = q.hit.n;
+    photon.wo = q.wo;
+    photon.beta = q.beta;
+    photon.s = s;
+    photon.terminated = q.terminated;
+    // Light side of other_strategies' walk for the merged path, from q_minus down: q_minus's
+    // camera-side density is q's BSDF density towards it (independent of the camera's
+    // direction but for the side, which merge() checks); q's is the camera's density of c,
+    // a factor the caller applies.
+    const Material& mat = scene.materials[q.hit.material];
+    const float rev = remap0(convert_density(
+        diffuse_lobe_probability_hero(mat, hero_nm) * std::fabs(dot(q.wo, q.hit.n)) * kInvPi, q, q_minus));
+    const float r = rev / remap0(q_minus.pdf_fwd);
+    const bool delta_before = s - 2 > 0 ? path[s - 3].delta : q_minus.delta_light;
+    const bool merge_q_minus = s - 2 >= 2 && !q_minus.delta && q_minus.type == BdptVertexType::surface &&
+                               !q_minus.infinite && scene.materials[q_minus.hit.material].has_diffuse();
+    const float sum_q_minus = r * (s >= 3 ? path[s - 3].mis_sum : 0.f) + (merge_q_minus ? rev * eta : 0.f) +
+                              (!q_minus.delta && !delta_before ? r : 0.f);
+    photon.light_sum = (sum_q_minus + (!q_minus.delta ? 1.f : 0.f)) / remap0(q.pdf_fwd);
+    return photon;
 }
 
 }  // namespace spt

@@ -60,16 +60,29 @@ struct BdptContext {
 /// π r² × (light subpaths in the pass) times that of the connection it replaces (`eta`).
 /// Every subpath of the pass uses the same wavelengths, so photons and camera paths agree.
 struct MergeContext {
+    /// A mergeable light vertex with what a merge needs of its subpath, so that merging reads
+    /// one record (the grid keeps them in its own order, for locality).
     struct Photon {
-        std::uint32_t vertex;  ///< index of the photon's vertex in `vertices`
-        std::uint32_t begin;   ///< index of the first vertex of its subpath
+        Vec3 p, n;             ///< position, geometric normal
+        Vec3 wo;               ///< towards the previous vertex of its subpath
+        SampledSpectrum beta;  ///< light subpath throughput arriving here
+        /// The light side of the MIS sum of a merge here, per unit of the camera's area
+        /// density of this point (Bdpt::merge_weight).
+        float light_sum = 0.f;
+        int s = 0;                ///< vertices of its light subpath up to and including it
+        bool terminated = false;  ///< a dispersive refraction happened before it
     };
     const std::vector<BdptVertex>& vertices;       ///< the pass's light subpaths, one after another
     const std::vector<std::uint32_t>& path_begin;  ///< subpath i is [path_begin[i], path_begin[i + 1])
-    const std::vector<Photon>& photons;            ///< grid point j is photons[j]
+    const std::vector<Photon>& photons;            ///< grid slot j is photons[j]
     const PhotonGrid& grid;
     float eta;  ///< π r² × light subpaths in the pass
 };
+
+/// The photon of light subpath vertex path[s − 1] (s ≥ 3, a mergeable surface vertex whose
+/// BdptVertex::mis_sum values are filled) for a pass with merging density `eta` and hero
+/// wavelength `hero_nm`.
+MergeContext::Photon make_photon(const Scene& scene, const BdptVertex* path, int s, float eta, float hero_nm);
 
 /// Vertex merging, first phase: traces one light subpath at `lambda` (the pass's wavelengths),
 /// appends its vertices to `out` and its light-to-camera (t = 1) contributions to `splats`,

@@ -24,6 +24,9 @@ struct BdptVertex {
     /// direction from the scene towards it, and hit.p is not used.
     bool infinite = false;
     Vec3 dir;
+    /// Vertex merging: the other strategies' densities summed along the subpath up to this
+    /// vertex, relative to the strategy that ends the subpath here (Bdpt::prefix_sums).
+    float mis_sum = 0.f;
 
     const Vec3& p() const { return hit.p; }
     bool on_surface() const { return hit.n.x != 0.f || hit.n.y != 0.f || hit.n.z != 0.f; }

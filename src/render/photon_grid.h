@@ -17,8 +17,8 @@ public:
     /// Indexes `points` (copied) for queries of radius `radius` > 0.
     void build(const std::vector<Vec3>& points, float radius);
 
-    /// Calls visit(i, distance²) for every point i (an index into the built vector) within the
-    /// radius of p.
+    /// Calls visit(j, distance²) for every point within the radius of p, j being its slot in
+    /// the grid's own order (order()[j] is its index in the built vector).
     template <class Visit>
     void query(const Vec3& p, Visit&& visit) const {
         if (m_points.empty()) return;
@@ -38,12 +38,14 @@ public:
             for (std::uint32_t j = m_begin[buckets[k]]; j < m_begin[buckets[k] + 1]; ++j) {
                 const Vec3 d = m_points[j] - p;
                 const float d2 = dot(d, d);
-                if (d2 <= m_radius2) visit(m_index[j], d2);
+                if (d2 <= m_radius2) visit(j, d2);
             }
         }
     }
 
     std::size_t size() const { return m_points.size(); }
+    /// order()[j]: index in the built vector of the point in slot j.
+    const std::vector<std::uint32_t>& order() const { return m_index; }
     float radius() const { return m_radius; }
 
     /// Integer cell coordinate of x (in cell units), saturated so that the conversion is

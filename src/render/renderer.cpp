@@ -209,11 +209,9 @@ RenderStats render(const Scene& scene, const RenderSettings& settings, Film& fil
     float pass_eta = 0.f;
     std::vector<LightSubpathBatch> batches;
     MergePass merge_pass;
-    const float first_radius =
-        !vcm ? 0.f
-        : settings.integrator.merge_radius > 0.f
-            ? settings.integrator.merge_radius
-            : default_merge_radius(scene, camera, settings.width, settings.height, lights->scene_radius());
+    float first_radius = settings.integrator.merge_radius;
+    if (vcm && !(first_radius > 0.f))
+        first_radius = default_merge_radius({scene, camera, *lights, settings.integrator, settings.width}, settings);
 
     WorkQueue<TileTask> queue;
     PassLatch latch;
@@ -297,7 +295,7 @@ RenderStats render(const Scene& scene, const RenderSettings& settings, Film& fil
             while (!latch.wait_for(tasks, std::chrono::milliseconds(200)))
                 if (progress) progress(latch.paths(), total_paths);
             if (cancelled()) break;
-            merge_pass.build(batches, scene, radius, pass_eta);
+            merge_pass.build(batches, scene, pass_lambda, radius, pass_eta);
         }
         latch.reset();
         int tiles = 0;

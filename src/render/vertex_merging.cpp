@@ -5,48 +5,82 @@
 
 namespace spt {
 
-void MergePass::build(std::vector<LightSubpathBatch>& batches, const Scene& scene, float radius, float eta) {
+void MergePass::build(std::vector<LightSubpathBatch>& batches, const Scene& scene, const SampledWavelengths& lambda,
+                      float radius, float eta) {
     m_vertices.clear();
     m_begin.assign(1, 0);
-    m_photons.clear();
+    std::vector<MergeContext::Photon> photons;
     for (LightSubpathBatch& b : batches) {
         const auto offset = static_cast<std::uint32_t>(m_vertices.size());
         m_vertices.insert(m_vertices.end(), b.vertices.begin(), b.vertices.end());
         std::uint32_t begin = offset;
         for (const std::uint32_t end : b.ends) {
-            for (std::uint32_t v = begin + 1; v < offset + end; ++v) {
+            // From the second bounce of light on (light index ≥ 2; see Bdpt::other_strategies).
+            for (std::uint32_t v = begin + 2; v < offset + end; ++v) {
                 const BdptVertex& x = m_vertices[v];
-                if (x.type == BdptVertexType::surface && !x.infinite &&
-                    scene.materials[x.hit.material].has_diffuse())
-                    m_photons.push_back({v, begin});
+                if (x.type == BdptVertexType::surface && !x.infinite && scene.materials[x.hit.material].has_diffuse())
+                    photons.push_back(make_photon(scene, &m_vertices[begin], static_cast<int>(v - begin) + 1, eta,
+                                                  lambda.lambda[0]));
             }
             begin = offset + end;
             m_begin.push_back(begin);
         }
         b = {};
     }
-    std::vector<Vec3> points(m_photons.size());
-    for (std::size_t i = 0; i < points.size(); ++i) points[i] = m_vertices[m_photons[i].vertex].p();
+    std::vector<Vec3> points(photons.size());
+    for (std::size_t i = 0; i < points.size(); ++i) points[i] = photons[i].p;
     m_grid.build(points, radius);
+    m_photons.resize(photons.size());
+    for (std::size_t j = 0; j < photons.size(); ++j) m_photons[j] = photons[m_grid.order()[j]];
     m_eta = eta;
 }
 
-float default_merge_radius(const Scene& scene, const Camera& camera, int width, int height, float scene_radius) {
+float default_merge_radius(const BdptContext& ctx, const RenderSettings& settings) {
     constexpr int kGrid = 16;
+    constexpr float kFootprints = 5.f, kPhotonsPerMerge = 16.f;
+    constexpr std::uint64_t kPilotStream = 0x2545f4914f6cdd1dull;
+    const int width = settings.width, height = settings.height;
+    std::vector<Vec3> hits;
     std::vector<float> distances;
     for (int j = 0; j < kGrid; ++j)
         for (int i = 0; i < kGrid; ++i) {
-            const Ray ray = camera.generate_ray((static_cast<float>(i) + 0.5f) * static_cast<float>(width) / kGrid,
-                                                (static_cast<float>(j) + 0.5f) * static_cast<float>(height) / kGrid);
-            if (const std::optional<Hit> hit = scene.intersect(ray)) distances.push_back(hit->t);
+            const Ray ray = ctx.camera.generate_ray((static_cast<float>(i) + 0.5f) * static_cast<float>(width) / kGrid,
+                                                    (static_cast<float>(j) + 0.5f) * static_cast<float>(height) / kGrid);
+            if (const std::optional<Hit> hit = ctx.scene.intersect(ray)) {
+                distances.push_back(hit->t);
+                hits.push_back(hit->p);
+            }
         }
-    if (distances.empty()) return 0.003f * scene_radius;
+    if (distances.empty()) return 0.003f * ctx.lights.scene_radius();
     std::nth_element(distances.begin(), distances.begin() + static_cast<std::ptrdiff_t>(distances.size() / 2),
                      distances.end());
     const float median = distances[distances.size() / 2];
     const float cx = 0.5f * static_cast<float>(width), cy = 0.5f * static_cast<float>(height);
-    const float pixel_angle = length(camera.generate_ray(cx + 1.f, cy).d - camera.generate_ray(cx, cy).d);
-    return 5.f * median * pixel_angle;
+    const float pixel_angle = length(ctx.camera.generate_ray(cx + 1.f, cy).d - ctx.camera.generate_ray(cx, cy).d);
+    const float radius = kFootprints * median * pixel_angle;
+
+    // Pilot: the photons of one light phase, counted around the camera hits.
+    const int n = width * height;
+    const SampledWavelengths lambda = pass_wavelengths(settings.seed, 0);
+    std::vector<LightSubpathBatch> batches(1);
+    PathStats stats;
+    for (int i = 0; i < n; ++i) {
+        Rng rng(settings.seed ^ kPilotStream, static_cast<std::uint64_t>(i), 0);
+        trace_light_subpath(ctx, lambda, 0.f, rng, stats, batches[0].vertices, batches[0].splats);
+        batches[0].ends.push_back(static_cast<std::uint32_t>(batches[0].vertices.size()));
+        batches[0].splats.clear();
+    }
+    MergePass pilot;
+    pilot.build(batches, ctx.scene, lambda, radius, 0.f);
+    std::vector<float> counts;
+    for (const Vec3& p : hits) {
+        int count = 0;
+        pilot.grid().query(p, [&](std::uint32_t, float) { ++count; });
+        counts.push_back(static_cast<float>(count));
+    }
+    std::nth_element(counts.begin(), counts.begin() + static_cast<std::ptrdiff_t>(counts.size() / 2), counts.end());
+    const float median_count = counts[counts.size() / 2];
+    return median_count > kPhotonsPerMerge ? radius * std::sqrt(kPhotonsPerMerge / median_count) : radius;
 }
 
 float merge_radius(float r0, int pass) { return r0 * std::pow(static_cast<float>(pass + 1), -0.125f); }

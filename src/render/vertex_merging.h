@@ -7,6 +7,7 @@
 
 #include "render/bdpt.h"
 #include "render/camera.h"
+#include "render/renderer.h"
 
 namespace spt {
 
@@ -23,9 +24,11 @@ public:
     /// Concatenates the batches (consumed) and indexes the photons: surface vertices after the
     /// origin, on materials with a diffuse lobe. eta = π r² × the number of subpaths (the
     /// light phase already used it in its splats' weights).
-    void build(std::vector<LightSubpathBatch>& batches, const Scene& scene, float radius, float eta);
+    void build(std::vector<LightSubpathBatch>& batches, const Scene& scene, const SampledWavelengths& lambda,
+               float radius, float eta);
     MergeContext context() const { return {m_vertices, m_begin, m_photons, m_grid, m_eta}; }
     std::size_t photon_count() const { return m_photons.size(); }
+    const PhotonGrid& grid() const { return m_grid; }
 
 private:
     std::vector<BdptVertex> m_vertices;
@@ -35,11 +38,14 @@ private:
     float m_eta = 0.f;
 };
 
-/// First merging radius when none is given: five times the footprint of a pixel at the
-/// median distance of what the camera sees (rays through a 16×16 grid of pixels), so the
-/// expected number of photons per merge does not depend on the resolution (N ∝ pixels, the
-/// disk ∝ 1/pixels); with nothing in view, 0.003 × the scene's bounding radius.
-float default_merge_radius(const Scene& scene, const Camera& camera, int width, int height, float scene_radius);
+/// First merging radius when none is given. Five pixel footprints at the median distance of
+/// what the camera sees (rays through a 16×16 grid of pixels): the expected number of photons
+/// per merge then does not depend on the resolution (N ∝ pixels, the disk ∝ 1/pixels). Where
+/// photons are dense that is more than merging needs and slow, so a pilot light phase (N light
+/// subpaths of their own stream) counts the photons within that radius around the same camera
+/// hits; if the median count exceeds kPhotonsPerMerge the radius shrinks to expect that many.
+/// With nothing in view: 0.003 × the scene's bounding radius.
+float default_merge_radius(const BdptContext& ctx, const RenderSettings& settings);
 
 /// Radius of pass k (0-based) for a first radius r0: r0·(k + 1)^(−1/8).
 float merge_radius(float r0, int pass);
