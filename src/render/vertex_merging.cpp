@@ -59,8 +59,10 @@ float default_merge_radius(const BdptContext& ctx, const RenderSettings& setting
     const float pixel_angle = length(ctx.camera.generate_ray(cx + 1.f, cy).d - ctx.camera.generate_ray(cx, cy).d);
     const float radius = kFootprints * median * pixel_angle;
 
-    // Pilot: the photons of one light phase, counted around the camera hits.
-    const int n = width * height;
+    // Pilot: the photons of (up to 65536 subpaths of) one light phase, counted around the
+    // camera hits and scaled to the N = width·height subpaths of a pass.
+    const int n = std::min(width * height, 65536);
+    const float scale = static_cast<float>(width) * static_cast<float>(height) / static_cast<float>(n);
     const SampledWavelengths lambda = pass_wavelengths(settings.seed, 0);
     std::vector<LightSubpathBatch> batches(1);
     PathStats stats;
@@ -76,7 +78,7 @@ float default_merge_radius(const BdptContext& ctx, const RenderSettings& setting
     for (const Vec3& p : hits) {
         int count = 0;
         pilot.grid().query(p, [&](std::uint32_t, float) { ++count; });
-        counts.push_back(static_cast<float>(count));
+        counts.push_back(scale * static_cast<float>(count));
     }
     std::nth_element(counts.begin(), counts.begin() + static_cast<std::ptrdiff_t>(counts.size() / 2), counts.end());
     const float median_count = counts[counts.size() / 2];
