@@ -24,6 +24,8 @@
 //     only that test sees it;
 //   - the light phase's eta × 2 (renderer.cpp pass_eta, the splats' MIS weights): furnace
 //     Y = 1 gives 0.9838 (z = −9.1 at 1024 passes; at 256 passes it was only −4.7);
+//   - a merge's depth counted one lower in Bdpt::merge: MaxDepthCountsMergesLikeConnections
+//     (z = +26 at depth 1);
 //   - PhotonGrid without its shared-bucket check (double visits): the grid tests and the
 //     furnace Y = 1 (z = +5.2 at 256 passes; a pixel at z = 12).
 #include <gtest/gtest.h>
@@ -401,6 +403,44 @@ TEST(Vcm, DeterministicForAnyThreadCount) {
         rs.threads = threads;
         const auto many = render_film(scene, rs);
         EXPECT_EQ(one->save_state(), many->save_state()) << threads << " threads";
+    }
+}
+
+/// Resuming (RenderSettings::first_sample) continues the pass sequence: pass k keeps its
+/// radius r0·(k + 1)^(−1/8), its wavelengths and its light subpaths' random numbers, so
+/// 2 + 3 passes into one film equal 5 passes straight, bit for bit.
+TEST(Vcm, ResumedRenderEqualsStraightRun) {
+    const Scene scene = builtin("cornell-point");
+    RenderSettings rs = with(IntegratorKind::vcm, 20, 16, 5, 31, 0.1f);
+    const auto straight = render_film(scene, rs);
+    Film resumed(rs.width, rs.height);
+    rs.spp = 2;
+    render(scene, rs, resumed);
+    rs.spp = 5;
+    rs.first_sample = 2;
+    render(scene, rs, resumed);
+    EXPECT_EQ(straight->save_state(), resumed.save_state());
+}
+
+/// max_depth counts a merge (s, t) as the connection (s, t − 1) it replaces: in the furnace
+/// with the point light, depth 1 is exactly single scattering (Y = 0.5) and depth 2 adds the
+/// second bounce (0.75). Merging at r = 0.3 is a large share of both (see the furnaces), so a
+/// merge allowed one bounce too many moves the mean by tens of σ. Measured 0.5021 ± 0.0022
+/// and 0.7518 ± 0.0024 (σ from the per-pass means, 512 passes); with the merge's depth
+/// counted one lower (planted: s + t − 4), 0.5580 and 0.7897 (z = +26, +16).
+TEST(Vcm, MaxDepthCountsMergesLikeConnections) {
+    Scene scene = closed_sphere_scene(diffuse_material(0.5));
+    scene.point_lights.push_back({{0, 0, 0}, constant_spectrum(std::numbers::pi)});
+    scene.finalize();
+    for (const auto& [depth, exact] : {std::pair{1, 0.5}, std::pair{2, 0.75}}) {
+        RenderSettings rs = with(IntegratorKind::vcm, 12, 12, 512, 41, 0.3f);
+        rs.integrator.max_depth = depth;
+        const PassImages p = render_passes(scene, rs);
+        const ImageMean m = p.region([](int, int) { return true; });
+        report("furnace depth %d: %.5f ± %.5f for %.2f (z = %.2f)", depth, m.mean, m.standard_error, exact,
+               (m.mean - exact) / m.standard_error);
+        EXPECT_NEAR(m.mean, exact, kZ * m.standard_error) << "max_depth " << depth;
+        EXPECT_LT(m.standard_error, 0.01 * exact);
     }
 }
 
