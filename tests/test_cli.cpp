@@ -184,6 +184,12 @@ TEST_F(Cli, BadArgumentsExitTwoWithOneLineNamingTheFlag) {
         {{"--spp"}, {"--spp"}},  // missing value at the end
         {{"-o"}, {"-o"}},
         {{"--spectral-bins"}, {"--spectral-bins"}},
+        {{"--integrator", "foo"}, {"--integrator", "foo", "vcm"}},
+        {{"--merge-radius", "0"}, {"--merge-radius", "'0'"}},
+        {{"--merge-radius", "-1"}, {"--merge-radius", "-1"}},
+        {{"--merge-radius", "abc"}, {"--merge-radius", "abc"}},
+        {{"--merge-radius", "nan"}, {"--merge-radius"}},
+        {{"--merge-radius"}, {"--merge-radius"}},
     };
     for (const BadCase& c : cases) {
         // The bad arguments come last (so "missing value" cases really are at the end), after
@@ -203,6 +209,26 @@ TEST_F(Cli, BadArgumentsExitTwoWithOneLineNamingTheFlag) {
         EXPECT_TRUE(files().empty()) << what << ": a failing run created files";
         for (const std::string& f : files()) fs::remove_all(m_dir / f);
     }
+}
+
+/// The vcm integrator is accepted, with or without a merging radius, and renders an image
+/// with no rejected samples.
+TEST_F(Cli, VcmIntegratorAndMergeRadiusAreAccepted) {
+    for (const std::vector<std::string>& extra :
+         {std::vector<std::string>{"--integrator", "vcm"}, {"--integrator=vcm", "--merge-radius", "0.05"},
+          {"--integrator", "vcm", "--merge-radius=1e-3"}}) {
+        const RunResult r = run({"cornell-point", "--width", "8", "--height", "8", "--spp", "2", "-o", "v.pfm",
+                                 extra[0], extra.size() > 1 ? extra[1] : "--quiet",
+                                 extra.size() > 2 ? extra[2] : "--quiet",
+                                 extra.size() > 3 ? extra[3] : "--quiet"});
+        EXPECT_EQ(r.exit_code, 0) << join(extra) << "\nstderr: " << r.err;
+        EXPECT_EQ(files(), std::set<std::string>{"v.pfm"}) << join(extra);
+        for (const std::string& f : files()) fs::remove_all(m_dir / f);
+    }
+    const RunResult loud = run({"cornell-point", "--width", "8", "--height", "8", "--spp", "2", "-o", "w.pfm",
+                                "--integrator", "vcm"});
+    EXPECT_EQ(loud.exit_code, 0) << loud.err;
+    EXPECT_NE(loud.err.find("rejected samples: 0 non-finite, 0 negative"), std::string::npos) << loud.err;
 }
 
 /// Without --quiet too, a usage error prints nothing but the one line (no progress bar).
