@@ -1,10 +1,12 @@
 // A hashed uniform grid over points for fixed-radius searches (vertex merging's photons).
-// Cells are 2r wide, so the ball of radius r around any point overlaps at most 2×2×2 cells;
+// Cells are 2r wide, so the ball of radius r around any point overlaps at most 2×2×2 cells
+// (a third along an axis only where rounding could put a point in its neighbour);
 // cells are hashed into a table about as large as the point count and the points are sorted
 // by bucket (counting sort), so a query reads a few contiguous runs. Two of the eight cells
 // may share a bucket: those buckets are visited once.
 #pragma once
 #include <cmath>
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -22,14 +24,24 @@ public:
     template <class Visit>
     void query(const Vec3& p, Visit&& visit) const {
         if (m_points.empty()) return;
-        const std::int64_t x0 = cell((p.x - m_radius) * m_inv_cell), y0 = cell((p.y - m_radius) * m_inv_cell),
-                           z0 = cell((p.z - m_radius) * m_inv_cell);
-        std::uint32_t buckets[8];
+        // The cells overlapping [p − r, p + r] on each axis, widened by a little more than the
+        // rounding of the cell coordinates, so that no point within r whose own (rounded) cell
+        // lies just past the ends is missed: usually 1 or 2 cells per axis, rarely 3.
+        std::int64_t lo[3], hi[3];
+        for (int a = 0; a < 3; ++a) {
+            const float from = (p[a] - m_radius) * m_inv_cell, to = (p[a] + m_radius) * m_inv_cell;
+            // (At most half a cell: with coordinates ~10⁵ cells from the origin float has no
+            // precision left for the radius anyway.)
+            const float slack = std::min(0.5f, 1e-4f + 0x1p-20f * std::max(std::fabs(from), std::fabs(to)));
+            lo[a] = cell(from - slack);
+            hi[a] = cell(to + slack);
+        }
+        std::uint32_t buckets[27];
         int n = 0;
-        for (int dz = 0; dz < 2; ++dz)
-            for (int dy = 0; dy < 2; ++dy)
-                for (int dx = 0; dx < 2; ++dx) {
-                    const std::uint32_t b = bucket(x0 + dx, y0 + dy, z0 + dz);
+        for (std::int64_t z = lo[2]; z <= hi[2]; ++z)
+            for (std::int64_t y = lo[1]; y <= hi[1]; ++y)
+                for (std::int64_t x = lo[0]; x <= hi[0]; ++x) {
+                    const std::uint32_t b = bucket(x, y, z);
                     bool seen = false;
                     for (int k = 0; k < n; ++k) seen |= buckets[k] == b;
                     if (!seen) buckets[n++] = b;

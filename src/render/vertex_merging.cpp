@@ -57,7 +57,8 @@ float default_merge_radius(const BdptContext& ctx, const RenderSettings& setting
     const float median = distances[distances.size() / 2];
     const float cx = 0.5f * static_cast<float>(width), cy = 0.5f * static_cast<float>(height);
     const float pixel_angle = length(ctx.camera.generate_ray(cx + 1.f, cy).d - ctx.camera.generate_ray(cx, cy).d);
-    const float radius = kFootprints * median * pixel_angle;
+    // At most 1 % of the scene's radius: at low resolutions five footprints are a coarse blur.
+    const float radius = std::min(kFootprints * median * pixel_angle, 0.01f * ctx.lights.scene_radius());
 
     // Pilot: the photons of (up to 65536 subpaths of) one light phase, counted around the
     // camera hits and scaled to the N = width·height subpaths of a pass.

@@ -40,7 +40,8 @@ private:
 
 /// First merging radius when none is given. Five pixel footprints at the median distance of
 /// what the camera sees (rays through a 16×16 grid of pixels): the expected number of photons
-/// per merge then does not depend on the resolution (N ∝ pixels, the disk ∝ 1/pixels). Where
+/// per merge then does not depend on the resolution (N ∝ pixels, the disk ∝ 1/pixels); but at
+/// most 1 % of the scene's bounding radius (tiny images would blur coarsely). Where
 /// photons are dense that is more than merging needs and slow, so a pilot light phase (up to
 /// 65536 light subpaths of their own stream) counts the photons within that radius around the
 /// same camera hits; if the median count, scaled to a pass, exceeds kPhotonsPerMerge (16) the
