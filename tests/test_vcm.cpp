@@ -19,9 +19,13 @@
 //     alone): furnaces 1.96 and 7.22 (z = +46, +40), mirror caustic 0.0005 (z = −55);
 //   - eta × 2 in MergePass::build: MergePassIndexesDiffuseSurfaceVertices, furnaces 0.689 and
 //     4.005 (z = −94, −56), mirror caustic 0.122 (z = −25);
-//   - merge_weight always counting the reference connection (wrong when the camera vertex
-//     before the merge is specular, as behind the mirror): mirror caustic 0.072 (z = −37);
-//     only that test sees it;
+//   - Bdpt::camera_merge_sum always counting the reference connection (wrong when the camera
+//     vertex before the merge is specular, as behind the mirror): mirror caustic 0.072
+//     (z = −37); only that test sees it;
+//   - the camera side of a merge's MIS sum dropped (camera_merge_sum without camera_sum):
+//     furnaces 1.0246 and 5.439 (z = +18, +17), cornell-point z = +4.2;
+//   - the light side dropped (make_photon's light_sum = 0): furnaces 1.368 and 8.70 (z = +135,
+//     +59), cornell-point z = +9.0;
 //   - the light phase's eta × 2 (renderer.cpp pass_eta, the splats' MIS weights): furnace
 //     Y = 1 gives 0.9838 (z = −9.1 at 1024 passes; at 256 passes it was only −4.7);
 //   - a merge's depth counted one lower in Bdpt::merge: MaxDepthCountsMergesLikeConnections
