@@ -210,6 +210,26 @@ TEST(PhotonGrid, MatchesBruteForceFarFromTheOrigin) {
     EXPECT_EQ(wrong, 0);
 }
 
+/// Queries far beyond the float resolution of the cells (camera hits near the horizon of an
+/// infinite plane: 1e12–1e30 with r = 0.01) read at most 27 cells and never visit a point
+/// outside the radius; the first PhotonGrid looped over ~2^39 cells per axis there and
+/// overflowed its bucket list (found by the 512² glass-spheres vcm run).
+TEST(PhotonGrid, QueriesFarFromTheOriginStayBounded) {
+    const float r = 0.01f;
+    std::vector<Vec3> points;
+    for (float x : {1e12f, 4.6e18f, 1e30f, -3e20f})
+        for (int k = 0; k < 4; ++k) points.push_back({x, 0.003f * static_cast<float>(k), -x});
+    points.push_back({0, 0, 0});
+    PhotonGrid grid;
+    grid.build(points, r);
+    for (const Vec3& q : points) {
+        std::vector<int> got = visits(grid, points.size(), q);
+        const std::vector<int> want = brute_force(points, q, r);
+        for (std::size_t i = 0; i < points.size(); ++i) EXPECT_LE(got[i], want[i]) << i;
+        EXPECT_EQ(got[points.size() - 1], want[points.size() - 1]);
+    }
+}
+
 // ---- MergePass: photons, subpath bounds, eta ----
 
 BdptVertex surface_vertex(int material, const Vec3& p) {

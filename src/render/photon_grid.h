@@ -30,11 +30,13 @@ public:
         std::int64_t lo[3], hi[3];
         for (int a = 0; a < 3; ++a) {
             const float from = (p[a] - m_radius) * m_inv_cell, to = (p[a] + m_radius) * m_inv_cell;
-            // (At most half a cell: with coordinates ~10⁵ cells from the origin float has no
-            // precision left for the radius anyway.)
+            // (At most half a cell, so at most three cells per axis.)
             const float slack = std::min(0.5f, 1e-4f + 0x1p-20f * std::max(std::fabs(from), std::fabs(to)));
             lo[a] = cell(from - slack);
-            hi[a] = cell(to + slack);
+            // Past ~2^24 cells from the origin adjacent floats are more than a cell apart and
+            // the range could span any number of cells: there the grid keeps three (a query
+            // that far out, e.g. on the horizon of an infinite plane, is beyond resolving r).
+            hi[a] = std::min(cell(to + slack), lo[a] + 2);
         }
         std::uint32_t buckets[27];
         int n = 0;
