@@ -31,6 +31,9 @@ public:
             (bad ? m_rejected_nonfinite : m_rejected_negative).fetch_add(1, std::memory_order_relaxed);
             return;
         }
+        // Paths that found no light add exactly zero: skip the conversion (the sums, all ≥ +0,
+        // are the same bits either way).
+        if (L.is_zero()) return;
         const Xyz c = Cie1931::get().to_xyz(L, lambda);
         m_xyz[3 * i] += c.x, m_xyz[3 * i + 1] += c.y, m_xyz[3 * i + 2] += c.z;
         m_y_squared[i] += c.y * c.y;
