@@ -9,7 +9,9 @@ namespace spt {
 namespace {
 
 /// Direct light from every point light through one shadow ray each (delta lights: no MIS).
-SampledSpectrum sample_point_lights(const Scene& scene, const Material& mat, const Hit& hit,
+/// Out of line: scenes without point lights never call it, and inlined it changes the
+/// register allocation of the whole path loop (about 3 % more instructions per path).
+[[gnu::noinline]] SampledSpectrum sample_point_lights(const Scene& scene, const Material& mat, const Hit& hit,
                                     const Vec3& wo, const SampledWavelengths& lambda,
                                     PathStats& stats) {
     SampledSpectrum Ld(0.f);
