@@ -75,10 +75,12 @@ struct PixelSample {
     SampledWavelengths lambda;
     Ray ray;
 };
-inline PixelSample start_pixel_sample(const RenderSettings& settings, const Camera& camera, int x,
-                                      int y, int s) {
-    const std::uint64_t pixel_index = std::uint64_t(y) * settings.width + x;
-    Rng rng(settings.seed, pixel_index, static_cast<std::uint64_t>(s));
+inline RngStream pixel_stream(const RenderSettings& settings, int x, int y) {
+    return RngStream(settings.seed, std::uint64_t(y) * settings.width + x);
+}
+inline PixelSample start_pixel_sample(const RngStream& stream, const Camera& camera, int x, int y,
+                                      int s, const RenderSettings& settings) {
+    Rng rng(stream, static_cast<std::uint64_t>(s));
     SampledWavelengths lambda = SampledWavelengths::sample(rng.uniform());
     if (settings.integrator.wavelengths_per_path == 1) lambda.terminate_secondary();
     const float px = static_cast<float>(x) + rng.uniform();
@@ -91,8 +93,9 @@ inline PixelSample start_pixel_sample(const RenderSettings& settings, const Came
 void render_pixel_bdpt(const BdptContext& ctx, const RenderSettings& settings, int x, int y,
                        int first_sample, int end_sample, Film& film, PathStats& stats,
                        std::vector<Splat>& splats) {
+    const RngStream stream = pixel_stream(settings, x, y);
     for (int s = first_sample; s < end_sample; ++s) {
-        PixelSample ps = start_pixel_sample(settings, ctx.camera, x, y, s);
+        PixelSample ps = start_pixel_sample(stream, ctx.camera, x, y, s, settings);
         const SampledSpectrum L = trace_bdpt(ctx, ps.ray, ps.lambda, ps.rng, stats, splats);
         film.add_sample(x, y, L, ps.lambda);
     }
@@ -143,8 +146,9 @@ int effective_pass_spp(const RenderSettings& s) {
 
 void render_pixel(const Scene& scene, const RenderSettings& settings, const Camera& camera, int x,
                   int y, int first_sample, int end_sample, Film& film, PathStats& stats) {
+    const RngStream stream = pixel_stream(settings, x, y);
     for (int s = first_sample; s < end_sample; ++s) {
-        PixelSample ps = start_pixel_sample(settings, camera, x, y, s);
+        PixelSample ps = start_pixel_sample(stream, camera, x, y, s, settings);
         const SampledSpectrum L = trace_path(scene, settings.integrator, ps.ray, ps.lambda, ps.rng, stats);
         film.add_sample(x, y, L, ps.lambda);
     }
