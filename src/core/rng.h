@@ -12,14 +12,25 @@ inline constexpr std::uint64_t mix64(std::uint64_t z) {
     return z ^ (z >> 31);
 }
 
+/// The part of Rng's seeding that all samples of a pixel share (two of its three hashes), to
+/// be computed once per pixel rather than once per sample.
+struct RngStream {
+    RngStream(std::uint64_t seed, std::uint64_t pixel_index)
+        : inc((mix64(seed * 0x9e3779b97f4a7c15ull + pixel_index) << 1u) | 1u),
+          sample_key(mix64(seed + 0x632be59bd9b4e019ull)) {}
+    std::uint64_t inc;         ///< the PCG stream (odd increment) of the pixel
+    std::uint64_t sample_key;  ///< mixed into each sample's starting state
+};
+
 class Rng {
 public:
-    Rng(std::uint64_t seed, std::uint64_t pixel_index, std::uint64_t sample_index) {
-        const std::uint64_t stream = mix64(seed * 0x9e3779b97f4a7c15ull + pixel_index);
-        m_inc = (stream << 1u) | 1u;
+    Rng(std::uint64_t seed, std::uint64_t pixel_index, std::uint64_t sample_index)
+        : Rng(RngStream(seed, pixel_index), sample_index) {}
+    Rng(const RngStream& stream, std::uint64_t sample_index) {
+        m_inc = stream.inc;
         m_state = 0;
         next_u32();
-        m_state += mix64(sample_index ^ mix64(seed + 0x632be59bd9b4e019ull));
+        m_state += mix64(sample_index ^ stream.sample_key);
         next_u32();
     }
 

@@ -8,6 +8,8 @@ namespace spt {
 
 using Float4 = float __attribute__((vector_size(16)));
 using Int4 = std::int32_t __attribute__((vector_size(16)));
+/// Two doubles: the film's sums (double) are built two components at a time.
+using Double2 = double __attribute__((vector_size(16)));
 
 inline Float4 splat4(float v) { return Float4{v, v, v, v}; }
 inline Int4 splat4(std::int32_t v) { return Int4{v, v, v, v}; }
@@ -16,5 +18,21 @@ inline Float4 min4(Float4 a, Float4 b) { return a < b ? a : b; }
 inline Float4 max4(Float4 a, Float4 b) { return a > b ? a : b; }
 inline Int4 to_int4(Float4 v) { return __builtin_convertvector(v, Int4); }  ///< truncates
 inline Float4 to_float4(Int4 v) { return __builtin_convertvector(v, Float4); }
+/// One bit per lane of a comparison mask (lane k → bit k): one instruction on SSE, where
+/// testing the lanes one by one costs a dozen.
+inline unsigned lane_bits(Int4 mask) {
+#if defined(__SSE__)
+    return static_cast<unsigned>(__builtin_ia32_movmskps(reinterpret_cast<Float4>(mask)));
+#else
+    return (mask[0] & 1u) | (mask[1] & 2u) | (mask[2] & 4u) | (mask[3] & 8u);
+#endif
+}
+/// Lanes 0–1 and lanes 2–3 of a Float4 as doubles (exact).
+inline Double2 low_to_double2(Float4 v) {
+    return __builtin_convertvector(__builtin_shufflevector(v, v, 0, 1), Double2);
+}
+inline Double2 high_to_double2(Float4 v) {
+    return __builtin_convertvector(__builtin_shufflevector(v, v, 2, 3), Double2);
+}
 
 }  // namespace spt

@@ -28,7 +28,7 @@ inline std::optional<BsdfSample> sample_diffuse(const Material& mat, const Vec3&
     bs.wi = Frame(dot(wo, n) > 0.f ? n : -n).to_world(local);
     // f·cos/pdf = (kd/π)·cos/(cos/π) = kd, divided by the lobe probability.
     bs.weight = mat.kd.sample(lambda);
-    if (p_lobe != 1.f) bs.weight /= p_lobe;
+    bs.weight /= p_lobe;  // exact for p_lobe = 1, so no branch for that case (a mispredicted one)
     return bs;
 }
 

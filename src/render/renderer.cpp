@@ -73,20 +73,25 @@ private:
 
 /// The start of every path sample, shared by both integrators so they draw identical numbers:
 /// Rng(seed, pixel, sample), then the wavelengths, then the jitter inside the pixel.
+/// The camera ray is left to the caller (ray() as the integrator's argument): built in place
+/// there, it is not copied through memory in pieces, which stalls the first intersection.
 struct PixelSample {
     Rng rng;
     SampledWavelengths lambda;
-    Ray ray;
+    float px, py;  ///< film position of the sample
+    Ray ray(const Camera& camera) const { return camera.generate_ray(px, py); }
 };
-inline PixelSample start_pixel_sample(const RenderSettings& settings, const Camera& camera, int x,
-                                      int y, int s) {
-    const std::uint64_t pixel_index = std::uint64_t(y) * settings.width + x;
-    Rng rng(settings.seed, pixel_index, static_cast<std::uint64_t>(s));
+inline RngStream pixel_stream(const RenderSettings& settings, int x, int y) {
+    return RngStream(settings.seed, std::uint64_t(y) * settings.width + x);
+}
+inline PixelSample start_pixel_sample(const RngStream& stream, int x, int y, int s,
+                                      const RenderSettings& settings) {
+    Rng rng(stream, static_cast<std::uint64_t>(s));
     SampledWavelengths lambda = SampledWavelengths::sample(rng.uniform());
     if (settings.integrator.wavelengths_per_path == 1) lambda.terminate_secondary();
     const float px = static_cast<float>(x) + rng.uniform();
     const float py = static_cast<float>(y) + rng.uniform();
-    return {rng, lambda, camera.generate_ray(px, py)};
+    return {rng, lambda, px, py};
 }
 
 /// render_pixel for bidirectional path tracing: the same samples (Rng, wavelengths, jitter),
@@ -94,9 +99,10 @@ inline PixelSample start_pixel_sample(const RenderSettings& settings, const Came
 void render_pixel_bdpt(const BdptContext& ctx, const RenderSettings& settings, int x, int y,
                        int first_sample, int end_sample, Film& film, PathStats& stats,
                        std::vector<Splat>& splats) {
+    const RngStream stream = pixel_stream(settings, x, y);
     for (int s = first_sample; s < end_sample; ++s) {
-        PixelSample ps = start_pixel_sample(settings, ctx.camera, x, y, s);
-        const SampledSpectrum L = trace_bdpt(ctx, ps.ray, ps.lambda, ps.rng, stats, splats);
+        PixelSample ps = start_pixel_sample(stream, x, y, s, settings);
+        const SampledSpectrum L = trace_bdpt(ctx, ps.ray(ctx.camera), ps.lambda, ps.rng, stats, splats);
         film.add_sample(x, y, L, ps.lambda);
     }
 }
@@ -174,9 +180,10 @@ int effective_pass_spp(const RenderSettings& s) {
 
 void render_pixel(const Scene& scene, const RenderSettings& settings, const Camera& camera, int x,
                   int y, int first_sample, int end_sample, Film& film, PathStats& stats) {
+    const RngStream stream = pixel_stream(settings, x, y);
     for (int s = first_sample; s < end_sample; ++s) {
-        PixelSample ps = start_pixel_sample(settings, camera, x, y, s);
-        const SampledSpectrum L = trace_path(scene, settings.integrator, ps.ray, ps.lambda, ps.rng, stats);
+        PixelSample ps = start_pixel_sample(stream, x, y, s, settings);
+        const SampledSpectrum L = trace_path(scene, settings.integrator, ps.ray(camera), ps.lambda, ps.rng, stats);
         film.add_sample(x, y, L, ps.lambda);
     }
 }

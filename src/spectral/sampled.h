@@ -57,7 +57,7 @@ struct SampledSpectrum {
 
     float max_value() const { return std::max(std::max(v[0], v[1]), std::max(v[2], v[3])); }
     float average() const { return (v[0] + v[1] + v[2] + v[3]) / kLambdaCount; }
-    bool is_zero() const { return (v[0] == 0.f) & (v[1] == 0.f) & (v[2] == 0.f) & (v[3] == 0.f); }
+    bool is_zero() const { return lane_bits(lanes() == 0.f) == 0xfu; }
 };
 static_assert(kLambdaCount == 4, "SampledSpectrum maps the wavelengths onto one Float4");
 
