@@ -79,10 +79,6 @@ Scene builtin(const std::string& name) {
     return std::move(*scene);
 }
 
-double seconds_since(std::chrono::steady_clock::time_point t) {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
-}
-
 /// A vcm render kept pass by pass: every pixel's Y of each pass (its camera sample plus the
 /// splats of that pass's light subpaths), from the film after each pass. All pixels of a pass
 /// share the wavelengths and the photons, so errors of means over pixels are taken from the

@@ -126,9 +126,9 @@ void trace_light_subpaths(const BdptContext& ctx, const RenderSettings& settings
 /// pass's wavelengths instead of its own), connected to light subpath y·width + x.
 void render_pixel_vcm(const BdptContext& ctx, const MergeContext& merge, const RenderSettings& settings,
                       const SampledWavelengths& lambda, int x, int y, int s, Film& film, PathStats& stats) {
-    PixelSample ps = start_pixel_sample(settings, ctx.camera, x, y, s);
+    PixelSample ps = start_pixel_sample(pixel_stream(settings, x, y), x, y, s, settings);
     const auto light_path = static_cast<std::uint32_t>(y * settings.width + x);
-    const SampledSpectrum L = trace_camera_subpath(ctx, merge, light_path, ps.ray, lambda, ps.rng, stats);
+    const SampledSpectrum L = trace_camera_subpath(ctx, merge, light_path, ps.ray(ctx.camera), lambda, ps.rng, stats);
     film.add_sample(x, y, L, lambda);
 }
 
