@@ -65,7 +65,8 @@ Options:
                          MIS strategy, for caustics seen through glass; consistent, the
                          radius shrinks with the passes)
   --merge-radius R       vcm: merging radius of the first pass in scene units (default:
-                         five pixel footprints at the median distance the camera sees)
+                         five pixel footprints at the median distance the camera sees,
+                         less where a pilot finds photons dense; at most 1% of the scene)
   --max-depth D          maximum scattering events per path (0 to 100000; default unbounded)
   --time-limit SECONDS   render whole passes until the next one would end after SECONDS
                          (at least one pass); --spp is then the most it renders. For
