@@ -91,21 +91,6 @@ bool ray_hits_sphere(const Ray& ray, const Vec3& c, float r) {
     return disc >= 0.f && -b + std::sqrt(disc) > 0.f;
 }
 
-/// Mean and standard error of Y over the pixels where `include` holds.
-template <typename Mask>
-ImageMean region_mean(const Film& film, Mask include) {
-    double sum = 0, var = 0;
-    int n = 0;
-    for (int y = 0; y < film.height(); ++y)
-        for (int x = 0; x < film.width(); ++x)
-            if (include(x, y)) {
-                sum += film.pixel_xyz(x, y).y;
-                var += std::pow(film.pixel_y_standard_error(x, y), 2);
-                ++n;
-            }
-    return {sum / n, std::sqrt(var) / n};
-}
-
 /// The largest two-sample difference between blocks of block×block pixels (means over the
 /// block, σ pooled from the pixels'). Blocks rather than single pixels where the path
 /// tracer's pixels are skewed (rare bright paths: a pixel that missed them has a low σ too);
@@ -160,7 +145,7 @@ FurnaceResult expect_furnace(const Scene& scene, const RenderSettings& rs, doubl
                 res.max_off_rel = std::max(res.max_off_rel, std::fabs(v / bare->pixel_xyz(x, y).y - 1.0));
             }
         }
-    res.sphere = region_mean(*film, [&](int x, int y) { return kind[std::size_t(y) * rs.width + x] == 1; });
+    res.sphere = test::region_mean_y(*film, [&](int x, int y) { return kind[std::size_t(y) * rs.width + x] == 1; });
     EXPECT_LE(res.max_z, kZ);
     EXPECT_NEAR(res.sphere.mean, a, kZ * res.sphere.standard_error);
     EXPECT_LE(res.max_off_rel, 1e-5);
@@ -479,7 +464,7 @@ TEST(BdptDispersion, PointLightInsideGlassInFurnaceGivesOne) {
                                                       return ray_hits_sphere(ray, {0, 0, 0}, r);
                                                   }) == 0;
     auto on_wall = [&](int x, int y) { return wall[std::size_t(y) * rs.width + x]; };
-    const ImageMean m = region_mean(*film, on_wall);
+    const ImageMean m = test::region_mean_y(*film, on_wall);
     EXPECT_NEAR(m.mean, 1.0, kZ * m.standard_error);
     EXPECT_LT(m.standard_error, 0.005);
     double max_z = 0;

@@ -137,15 +137,24 @@ inline std::unique_ptr<Film> render_film(const Scene& scene, const RenderSetting
 struct ImageMean {
     double mean = 0, standard_error = 0;
 };
-inline ImageMean image_mean_y(const Film& film) {
+/// Mean Y over the pixels where include(x, y) holds and its standard error, the pixels taken
+/// as independent (true for path tracing and bdpt, whose samples draw their own wavelengths;
+/// not within a vcm pass).
+template <typename Mask>
+ImageMean region_mean_y(const Film& film, Mask include) {
     double sum = 0, var = 0;
-    const int n = film.width() * film.height();
+    int n = 0;
     for (int y = 0; y < film.height(); ++y)
-        for (int x = 0; x < film.width(); ++x) {
-            sum += film.pixel_xyz(x, y).y;
-            var += std::pow(film.pixel_y_standard_error(x, y), 2);
-        }
+        for (int x = 0; x < film.width(); ++x)
+            if (include(x, y)) {
+                sum += film.pixel_xyz(x, y).y;
+                var += std::pow(film.pixel_y_standard_error(x, y), 2);
+                ++n;
+            }
     return {sum / n, std::sqrt(var) / n};
+}
+inline ImageMean image_mean_y(const Film& film) {
+    return region_mean_y(film, [](int, int) { return true; });
 }
 
 /// Largest |Y − expected|/σ over the pixels (σ the pixel's measured standard error). A pixel

@@ -26,6 +26,22 @@ bool expect_same_hit(const Scene& scene, const Ray& ray, double t_ref, const std
     return hit.has_value();
 }
 
+/// Finalizes a small scene (no BVH), then casts 4000 rays from make_ray(k) and checks each
+/// against reference(ray), the nearest distance a plain loop over the shapes gives. Returns
+/// how many rays hit (−1 after the first failure, to keep the output short).
+template <class MakeRay, class Reference>
+int hits_equal_a_loop(Scene& scene, MakeRay make_ray, Reference reference, const std::string& what) {
+    scene.finalize();
+    EXPECT_FALSE(scene.uses_bvh());
+    int hits = 0;
+    for (int k = 0; k < 4000; ++k) {
+        const Ray ray = make_ray(k);
+        hits += expect_same_hit(scene, ray, reference(ray), what + ", ray " + std::to_string(k));
+        if (::testing::Test::HasFailure()) return -1;
+    }
+    return hits;
+}
+
 TEST(SphereLanes, SmallSceneHitsEqualALoopOverTheSpheres) {
     Rng rng(11, 0, 0);
     for (int count = 1; count <= static_cast<int>(Scene::kBvhThreshold); ++count) {
@@ -38,10 +54,7 @@ TEST(SphereLanes, SmallSceneHitsEqualALoopOverTheSpheres) {
             s.material = 0;
             scene.spheres.push_back(s);
         }
-        scene.finalize();
-        ASSERT_FALSE(scene.uses_bvh());
-        int hits = 0;
-        for (int k = 0; k < 4000; ++k) {
+        auto make_ray = [&](int k) {
             Ray ray;
             ray.o = {6 * rng.uniform() - 3, 6 * rng.uniform() - 3, 6 * rng.uniform() - 3};
             ray.d = sample_uniform_sphere(rng.uniform(), rng.uniform());
@@ -52,11 +65,15 @@ TEST(SphereLanes, SmallSceneHitsEqualALoopOverTheSpheres) {
                 ray.d = normalize(target - ray.o);
             }
             ray.t_max = k % 2 ? kInfinity : 2.f;
+            return ray;
+        };
+        auto loop = [&](const Ray& ray) {
             double t_ref = ray.t_max;
             for (const Sphere& s : scene.spheres) t_ref = std::min(t_ref, s.intersect_t(ray));
-            hits += expect_same_hit(scene, ray, t_ref, std::to_string(count) + " spheres, ray " + std::to_string(k));
-            if (::testing::Test::HasFailure()) return;
-        }
+            return t_ref;
+        };
+        const int hits = hits_equal_a_loop(scene, make_ray, loop, std::to_string(count) + " spheres");
+        if (hits < 0) return;
         EXPECT_GT(hits, 100) << "the rays must actually meet the spheres";
     }
 }
@@ -81,10 +98,7 @@ TEST(SphereLanes, SmallSceneTriangleHitsEqualALoop) {
             if (t.is_degenerate()) continue;
             scene.triangles.push_back(t);
         }
-        scene.finalize();
-        ASSERT_FALSE(scene.uses_bvh());
-        int hits = 0;
-        for (int k = 0; k < 4000; ++k) {
+        auto make_ray = [&](int) {
             Ray ray;
             ray.o = {6 * rng.uniform() - 3, 6 * rng.uniform() - 3, 6 * rng.uniform() - 3};
             const Triangle& t = scene.triangles[static_cast<std::size_t>(rng.uniform() * scene.triangles.size())];
@@ -92,12 +106,16 @@ TEST(SphereLanes, SmallSceneTriangleHitsEqualALoop) {
             const float a = rng.uniform() * 1.1f - 0.05f, b = rng.uniform() * (1.1f - a) - 0.05f;
             ray.d = normalize(t.p0 + (t.p1 - t.p0) * a + (t.p2 - t.p0) * b - ray.o);
             ray.t_max = kInfinity;
+            return ray;
+        };
+        auto loop = [&](const Ray& ray) {
             double t_ref = ray.t_max;
             for (const Triangle& tri : scene.triangles)
                 if (auto ti = tri.intersect(ray, t_ref)) t_ref = ti->t;
-            hits += expect_same_hit(scene, ray, t_ref, std::to_string(count) + " triangles, ray " + std::to_string(k));
-            if (::testing::Test::HasFailure()) return;
-        }
+            return t_ref;
+        };
+        const int hits = hits_equal_a_loop(scene, make_ray, loop, std::to_string(count) + " triangles");
+        if (hits < 0) return;
         EXPECT_GT(hits, 1000) << "the rays must actually meet the triangles";
     }
 }

@@ -298,22 +298,6 @@ Scene mirror_scene(bool unfolded) {
 }
 
 
-/// Mean Y of a film over the pixels where `include` holds, with its standard error (pixels
-/// independent: for path tracing and bdpt, whose samples each draw their own wavelengths).
-template <typename Mask>
-ImageMean film_region_mean(const Film& film, Mask include) {
-    double sum = 0, var = 0;
-    int n = 0;
-    for (int y = 0; y < film.height(); ++y)
-        for (int x = 0; x < film.width(); ++x)
-            if (include(x, y)) {
-                sum += film.pixel_xyz(x, y).y;
-                var += std::pow(film.pixel_y_standard_error(x, y), 2);
-                ++n;
-            }
-    return {sum / n, std::sqrt(var) / n};
-}
-
 /// Pixels whose 9×9 grid of rays (edges included) all land on the floor of the unfolded scene
 /// within `radius` of the virtual caustic's centre (−kCausticX, 0, 0), none on a sphere.
 std::vector<char> floor_region(const Scene& unfolded, int width, int height, float radius) {
@@ -362,7 +346,7 @@ TEST(Vcm, RendersCausticSeenInAMirror) {
     const PassImages vcm = render_passes(mirrored, with(IntegratorKind::vcm, kSize, kSize, 256, 4, 0.02f));
     EXPECT_EQ(vcm.film->rejected_samples(), 0u);
 
-    const ImageMean ref = film_region_mean(*reference, in), lost = film_region_mean(*bdpt, in);
+    const ImageMean ref = test::region_mean_y(*reference, in), lost = test::region_mean_y(*bdpt, in);
     const ImageMean got = vcm.region(in);
     const double sigma = std::hypot(ref.standard_error, got.standard_error);
     int pixels = 0;
@@ -379,7 +363,7 @@ TEST(Vcm, RendersCausticSeenInAMirror) {
     // The caustic itself (within 0.12 of its centre: its bright core and edge) agrees too.
     const std::vector<char> core = floor_region(unfolded, kSize, kSize, 0.12f);
     auto in_core = [&](int x, int y) { return core[std::size_t(y) * kSize + x] != 0; };
-    const ImageMean ref_core = film_region_mean(*reference, in_core), got_core = vcm.region(in_core);
+    const ImageMean ref_core = test::region_mean_y(*reference, in_core), got_core = vcm.region(in_core);
     const double sigma_core = std::hypot(ref_core.standard_error, got_core.standard_error);
     report("mirror caustic core: vcm %.4f ± %.4f, direct view %.4f ± %.4f: z = %.2f", got_core.mean,
            got_core.standard_error, ref_core.mean, ref_core.standard_error, (got_core.mean - ref_core.mean) / sigma_core);
