@@ -201,6 +201,75 @@ TEST(VcmPass, MergeRadiusShrinksAsPassToMinusOneEighth) {
         EXPECT_NEAR(merge_radius(0.03f, k), 0.03 * std::pow(k + 1.0, -0.125), 1e-6 * 0.03) << k;
 }
 
+/// Median over a 16×16 grid of camera hits of the photons within `radius` for one light pass
+/// of `paths` subpaths (own Rng stream, not the pilot's).
+float median_photons(const Scene& scene, const RenderSettings& rs, int paths, float radius) {
+    const Camera camera(scene.camera, rs.width, rs.height);
+    const LightSampler lights(scene);
+    const BdptContext ctx{scene, camera, lights, rs.integrator, rs.width};
+    const SampledWavelengths lambda = pass_wavelengths(rs.seed, 0);
+    std::vector<LightSubpathBatch> batches(1);
+    PathStats stats;
+    for (int i = 0; i < paths; ++i) {
+        Rng rng(77, static_cast<std::uint64_t>(i), 3);
+        trace_light_subpath(ctx, lambda, 0.f, rng, stats, batches[0].vertices, batches[0].splats);
+        batches[0].ends.push_back(static_cast<std::uint32_t>(batches[0].vertices.size()));
+    }
+    MergePass pass;
+    pass.build(batches, scene, lambda, radius, 0.f);
+    std::vector<float> counts;
+    for (int j = 0; j < 16; ++j)
+        for (int i = 0; i < 16; ++i)
+            if (const auto hit = scene.intersect(camera.generate_ray((i + 0.5f) * rs.width / 16.f,
+                                                                     (j + 0.5f) * rs.height / 16.f))) {
+                int n = 0;
+                pass.grid().query(hit->p, [&](std::uint32_t, float) { ++n; });
+                counts.push_back(static_cast<float>(n));
+            }
+    std::nth_element(counts.begin(), counts.begin() + static_cast<std::ptrdiff_t>(counts.size() / 2), counts.end());
+    return counts[counts.size() / 2];
+}
+
+/// The default radius (vertex_merging.h): five pixel footprints, at most 1 % of the scene's
+/// bounding radius, and shrunk where photons are dense so that a merge expects about 16.
+///   - glass-spheres at 512² and 1024² (sparse photons, footprints below the cap): the radius
+///     halves when the resolution doubles;
+///   - cornell-point at 1024² (a closed box, dense photons; footprints below the cap): a pass
+///     of N = 1024² subpaths would put a median of ~16 photons in the radius. Checked with
+///     N/16 subpaths of another stream in a disk of 4× the radius (same expected count):
+///     measured 19, allowed 8–32 (the pilot's noise, a density not uniform over the disk);
+///     twice that disk holds far more (the density rule, not the footprint, set the radius);
+///   - at 16×16 five footprints would be 40 % of the box: the 1 % cap holds.
+TEST(VcmPass, DefaultRadiusFollowsFootprintsPhotonDensityAndCap) {
+    auto radius_of = [](const Scene& scene, int size) {
+        RenderSettings rs = small_settings(size, size, 1, 5);
+        const Camera camera(scene.camera, rs.width, rs.height);
+        const LightSampler lights(scene);
+        return std::pair{default_merge_radius({scene, camera, lights, rs.integrator, rs.width}, rs),
+                         lights.scene_radius()};
+    };
+    const Scene spheres = builtin("glass-spheres");
+    const float r512 = radius_of(spheres, 512).first, r1024 = radius_of(spheres, 1024).first;
+    report("radius glass-spheres: %g at 512², %g at 1024²", r512, r1024);
+    EXPECT_NEAR(r1024, 0.5f * r512, 0.02f * r512);
+
+    const Scene box = builtin("cornell-point");
+    const auto [r_box, box_radius] = radius_of(box, 1024);
+    const RenderSettings rs = small_settings(1024, 1024, 1, 5);
+    const float median = median_photons(box, rs, 65536, 4.f * r_box);
+    const float median_twice = median_photons(box, rs, 65536, 8.f * r_box);
+    report("radius cornell-point 1024²: %g (cap %g); median photons per merge %g (%g in twice the radius)", r_box,
+           0.01f * box_radius, median, median_twice);
+    EXPECT_LT(r_box, 0.01f * box_radius);
+    EXPECT_GE(median, 8.f);
+    EXPECT_LE(median, 32.f);
+    EXPECT_GT(median_twice, 32.f);
+
+    const auto [r16, cap_radius] = radius_of(box, 16);
+    EXPECT_LE(r16, 0.01f * cap_radius * (1 + 1e-6f));
+    EXPECT_GE(r16, 0.005f * cap_radius) << "capped, not shrunk further by the pilot";
+}
+
 // ---- Furnaces ----
 //
 // Closed Lambertian sphere: radiance is uniform and known. On a sphere the area inside a ball
