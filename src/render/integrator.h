@@ -23,9 +23,9 @@ struct IntegratorSettings {
     /// 4: the hero wavelength set (default); 1: the hero alone, for measuring what the
     /// companions save (the film weights stay unbiased either way).
     int wavelengths_per_path = kLambdaCount;
-    /// vcm: merging radius of the first pass in scene units; 0 chooses five pixel footprints
-    /// (default_merge_radius in vertex_merging.h). Pass k uses r·(k + 1)^(−1/8) (progressive photon mapping
-    /// with α = 3/4: the bias vanishes as passes accumulate).
+    /// vcm: merging radius of the first pass in scene units; 0 lets default_merge_radius
+    /// (vertex_merging.h) choose it. Pass k uses r·(k + 1)^(−1/8) (progressive photon
+    /// mapping with α = 3/4: the bias vanishes as passes accumulate).
     float merge_radius = 0.f;
 };
 

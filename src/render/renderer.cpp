@@ -208,7 +208,11 @@ RenderStats render(const Scene& scene, const RenderSettings& settings, Film& fil
     const bool vcm = settings.integrator.kind == IntegratorKind::vcm;
     const bool bdpt = settings.integrator.kind == IntegratorKind::bdpt;
     std::optional<LightSampler> lights;
-    if (bdpt || vcm) lights.emplace(scene);
+    std::optional<BdptContext> bidir;  // what both bidirectional integrators share
+    if (bdpt || vcm) {
+        lights.emplace(scene);
+        bidir.emplace(scene, camera, *lights, settings.integrator, settings.width);
+    }
     SplatMerger merger(film);
 
     // Vertex merging: the current pass's wavelengths, radius and light subpaths.
@@ -218,7 +222,7 @@ RenderStats render(const Scene& scene, const RenderSettings& settings, Film& fil
     MergePass merge_pass;
     float first_radius = settings.integrator.merge_radius;
     if (vcm && !(first_radius > 0.f))
-        first_radius = default_merge_radius({scene, camera, *lights, settings.integrator, settings.width}, settings);
+        first_radius = default_merge_radius(*bidir, settings);
 
     WorkQueue<TileTask> queue;
     PassLatch latch;
@@ -235,8 +239,7 @@ RenderStats render(const Scene& scene, const RenderSettings& settings, Film& fil
                 if (task->light_subpaths) {
                     LightSubpathBatch& batch = batches[static_cast<std::size_t>(task->index)];
                     if (!cancelled()) {
-                        const BdptContext ctx{scene, camera, *lights, settings.integrator, settings.width};
-                        trace_light_subpaths(ctx, settings, task->x0, task->x1, task->first_sample, pass_lambda,
+                        trace_light_subpaths(*bidir, settings, task->x0, task->x1, task->first_sample, pass_lambda,
                                              pass_eta, local, batch);
                     }
                     merger.submit(task->index, std::move(batch.splats), static_cast<std::uint64_t>(task->x1 - task->x0));
@@ -245,16 +248,14 @@ RenderStats render(const Scene& scene, const RenderSettings& settings, Film& fil
                 }
                 if (!cancelled()) {
                     if (vcm) {
-                        const BdptContext ctx{scene, camera, *lights, settings.integrator, settings.width};
                         const MergeContext mc = merge_pass.context();
                         for (int y = task->y0; y < task->y1; ++y)
                             for (int x = task->x0; x < task->x1; ++x)
-                                render_pixel_vcm(ctx, mc, settings, pass_lambda, x, y, task->first_sample, film, local);
+                                render_pixel_vcm(*bidir, mc, settings, pass_lambda, x, y, task->first_sample, film, local);
                     } else if (bdpt) {
-                        const BdptContext ctx{scene, camera, *lights, settings.integrator, settings.width};
                         for (int y = task->y0; y < task->y1; ++y)
                             for (int x = task->x0; x < task->x1; ++x)
-                                render_pixel_bdpt(ctx, settings, x, y, task->first_sample,
+                                render_pixel_bdpt(*bidir, settings, x, y, task->first_sample,
                                                   task->end_sample, film, local, splats);
                     } else {
                         for (int y = task->y0; y < task->y1; ++y)
