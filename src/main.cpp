@@ -210,7 +210,7 @@ int main(int argc, char** argv) {
             return 0;
         }
         if (opt.show_version) {
-            std::printf("pathtracer %s\n", SPT_VERSION);
+            std::printf("pathtracer %s (%s build)\n", SPT_VERSION, SPT_BUILD_ISA);
             return 0;
         }
         if (opt.rgb_to_spectrum) {

@@ -33,7 +33,7 @@ public:
         // Paths that found no light add exactly zero: skip the conversion (the sums, all ≥ +0,
         // are the same bits either way).
         if (L.is_zero()) return;
-        const Xyz c = Cie1931::get().to_xyz(L, lambda);
+        const Xyz c = m_cie->to_xyz(L, lambda);
         m_xyz[3 * i] += c.x, m_xyz[3 * i + 1] += c.y, m_xyz[3 * i + 2] += c.z;
         m_y_squared[i] += c.y * c.y;
     }
@@ -98,6 +98,9 @@ private:
         return static_cast<double>(m_light_paths) / (static_cast<double>(m_width) * m_height);
     }
     int m_width, m_height;
+    /// Held, not fetched per sample: Cie1931::get() is an out-of-line call (a guarded static)
+    /// that makes the caller save its vector registers around it.
+    const Cie1931* m_cie = &Cie1931::get();
     std::vector<double> m_xyz;
     std::vector<double> m_splat_xyz, m_splat_y_squared;  ///< empty unless splats were added
     std::uint64_t m_light_paths = 0;
