@@ -47,10 +47,13 @@ public:
         test(m_first[2], splat(ray.o.z), splat(1.0 / ray.d.z), t_min, i_min);
         if (!m_more.empty()) [[unlikely]] test_more(ray, t_min, i_min);
         // The nearer lane; on a tie (coincident planes) the lower plane index, as a list
-        // tested in order would give.
-        const bool second = t_min[1] < t_min[0] || (t_min[1] == t_min[0] && i_min[1] < i_min[0]);
-        t_best = second ? t_min[1] : t_min[0];
-        best = static_cast<int>(second ? i_min[1] : i_min[0]);
+        // tested in order would give. Chosen in the vector registers: as a branch it
+        // mispredicts about every other ray (which wall is hit is random).
+        const Double2 t_other = __builtin_shufflevector(t_min, t_min, 1, 0);
+        const Double2 i_other = __builtin_shufflevector(i_min, i_min, 1, 0);
+        const Long2 other_nearer = (t_other < t_min) | ((t_other == t_min) & (i_other < i_min));
+        t_best = (other_nearer ? t_other : t_min)[0];
+        best = static_cast<int>((other_nearer ? i_other : i_min)[0]);
     }
 
     /// True if a plane lies at 0 < t < t_max along the ray (shadow rays).
