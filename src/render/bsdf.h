@@ -19,7 +19,7 @@ struct BsdfSample {
 };
 
 /// Lambertian lobe chosen with probability p_lobe (cos θo ≠ 0 checked by the caller).
-inline std::optional<BsdfSample> sample_diffuse(const Material& mat, const Vec3& wo, const Vec3& n,
+[[gnu::always_inline]] inline std::optional<BsdfSample> sample_diffuse(const Material& mat, const Vec3& wo, const Vec3& n,
                                                 const SampledWavelengths& lambda, float u1, float u2,
                                                 float p_lobe) {
     const Vec3 local = sample_cosine_hemisphere(u1, u2);
