@@ -3,6 +3,7 @@
 // uses. Reference distances are computed in long double from the same float inputs.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <optional>
@@ -133,6 +134,36 @@ TEST(Sphere, PoleHitHasExactNormalAndFiniteFrame) {
     ASSERT_TRUE(top.has_value());
     EXPECT_EQ(top->p, Vec3(0.f, 0.f, 1.f));
     EXPECT_EQ(top->n, Vec3(0.f, 0.f, 1.f));
+}
+
+TEST(Sphere, HitNormalIsUnitAndOutwardAtEveryScale) {
+    // make_hit takes the normal from the double-precision reprojection, with no float
+    // normalisation after it: the rounded normal must still be unit to float precision
+    // (|n| − 1 within 2^-22) and point out of the sphere, at any radius and distance.
+    Uniform rng(7);
+    int hits = 0;
+    double worst = 0;
+    for (int cfg = 0; cfg < 2000; ++cfg) {
+        const float r = float(rng.log_uniform(-4, 4));
+        const Vec3 c(float(rng.sign() * rng.log_uniform(-4, 4)), float(rng.sign() * rng.log_uniform(-4, 4)),
+                     float(rng.sign() * rng.log_uniform(-4, 4)));
+        const spt::Scene s = scene_with_sphere(c, r);
+        const Dir w = random_dir(rng);
+        const double dist = 3.0 * r;  // outside, aimed at the centre
+        const spt::Ray ray{Vec3(float(c.x + dist * w.x), float(c.y + dist * w.y), float(c.z + dist * w.z)),
+                           Vec3(float(-w.x), float(-w.y), float(-w.z)), spt::kInfinity};
+        const std::optional<spt::Hit> hit = s.intersect(ray);
+        if (!hit) continue;
+        ++hits;
+        const long double len = std::sqrt((long double)hit->n.x * hit->n.x + (long double)hit->n.y * hit->n.y +
+                                          (long double)hit->n.z * hit->n.z);
+        worst = std::max(worst, double(std::fabs(len - 1)));
+        // Outward: a ray from outside meets the surface against the normal. (Not necessarily
+        // at the pole: where |c| ≫ r the float origin is off by more than the radius.)
+        EXPECT_LT(spt::dot(hit->n, ray.d), 0.f);
+    }
+    EXPECT_GT(hits, 1900);
+    EXPECT_LT(worst, 0x1p-22) << "largest | |n| - 1 |";
 }
 
 TEST(Frame, OrthonormalRightHandedForAllNormals) {

@@ -48,20 +48,21 @@ struct Sphere {
     }
 
     Hit make_hit(const Ray& ray, double t) const {
-        // Reproject onto the surface: the point is then exact up to its final rounding.
-        double px = double(ray.o.x) - center.x + t * ray.d.x;
-        double py = double(ray.o.y) - center.y + t * ray.d.y;
-        double pz = double(ray.o.z) - center.z + t * ray.d.z;
-        const double scale = double(radius) / std::sqrt(px * px + py * py + pz * pz);
-        px *= scale, py *= scale, pz *= scale;
+        // Reproject onto the surface: the point is then exact up to its final rounding. The
+        // unit normal comes from the same division (one sqrt and one division in double; the
+        // normal, unit to double precision, needs no float normalisation afterwards).
+        const double px = double(ray.o.x) - center.x + t * ray.d.x;
+        const double py = double(ray.o.y) - center.y + t * ray.d.y;
+        const double pz = double(ray.o.z) - center.z + t * ray.d.z;
+        const double inv_len = 1.0 / std::sqrt(px * px + py * py + pz * pz);
+        const double nx = px * inv_len, ny = py * inv_len, nz = pz * inv_len;
+        const double r = radius;
         Hit hit;
         hit.t = static_cast<float>(t);
-        hit.p = {static_cast<float>(px + center.x), static_cast<float>(py + center.y),
-                 static_cast<float>(pz + center.z)};
+        hit.p = {static_cast<float>(nx * r + center.x), static_cast<float>(ny * r + center.y),
+                 static_cast<float>(nz * r + center.z)};
         hit.p_err = rounded_point_error(hit.p);
-        const double inv_r = 1.0 / radius;
-        hit.n = normalize(Vec3(static_cast<float>(px * inv_r), static_cast<float>(py * inv_r),
-                               static_cast<float>(pz * inv_r)));
+        hit.n = {static_cast<float>(nx), static_cast<float>(ny), static_cast<float>(nz)};
         hit.material = material;
         return hit;
     }
