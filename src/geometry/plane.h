@@ -2,6 +2,7 @@
 // the plane, so the hit point's only error is its final rounding to float.
 #pragma once
 #include <cmath>
+#include <cstdint>
 
 #include "geometry/ray.h"
 
@@ -23,10 +24,17 @@ struct Plane {
     }
 
     /// make_hit for a plane whose normal is ±axis: the point's coordinate on that axis is the
-    /// plane's exactly (what the projection below gives), the other two are o + t·d.
+    /// plane's exactly (what the projection below gives), the other two are o + t·d. The axis
+    /// lane is chosen with a mask: writing a stored point at index `axis` and reading it back
+    /// stalls the path on the reload.
     Hit make_axis_hit(const Ray& ray, double t, int axis) const {
-        double p[3] = {ray.o.x + t * ray.d.x, ray.o.y + t * ray.d.y, ray.o.z + t * ray.d.z};
-        p[axis] = double(offset) * normal[axis];
+        using Double4 = double __attribute__((vector_size(32)));
+        using Long4 = std::int64_t __attribute__((vector_size(32)));
+        const Double4 o = {ray.o.x, ray.o.y, ray.o.z, 0.0}, d = {ray.d.x, ray.d.y, ray.d.z, 0.0};
+        // normal[axis] is ±1 and the other two components are 0, so their sum is normal[axis].
+        const double on_plane = double(offset) * (normal.x + normal.y + normal.z);
+        const Long4 is_axis = Long4{0, 1, 2, 3} == axis;
+        const Double4 p = is_axis ? Double4{} + on_plane : o + t * d;
         Hit hit;
         hit.t = static_cast<float>(t);
         hit.p = {static_cast<float>(p[0]), static_cast<float>(p[1]), static_cast<float>(p[2])};
