@@ -19,9 +19,11 @@ struct BsdfSample {
 };
 
 /// Lambertian lobe chosen with probability p_lobe (cos θo ≠ 0 checked by the caller).
-[[gnu::always_inline]] inline std::optional<BsdfSample> sample_diffuse(const Material& mat, const Vec3& wo, const Vec3& n,
-                                                const SampledWavelengths& lambda, float u1, float u2,
-                                                float p_lobe) {
+/// Always inlined: as a call from the path loop, the loop saved and reloaded its vector
+/// registers around every diffuse bounce (1.3 % of the time per path on cornell).
+[[gnu::always_inline]] inline std::optional<BsdfSample> sample_diffuse(
+    const Material& mat, const Vec3& wo, const Vec3& n, const SampledWavelengths& lambda, float u1, float u2,
+    float p_lobe) {
     const Vec3 local = sample_cosine_hemisphere(u1, u2);
     if (!(local.z > 0.f)) return std::nullopt;  // pdf 0 at the horizon
     BsdfSample bs;

@@ -98,8 +98,8 @@ private:
         return static_cast<double>(m_light_paths) / (static_cast<double>(m_width) * m_height);
     }
     int m_width, m_height;
-    /// Held, not fetched per sample: Cie1931::get() is an out-of-line call (a guarded static)
-    /// that makes the caller save its vector registers around it.
+    /// Looked up once: Cie1931::get() is an out-of-line call with a guard check, which
+    /// add_sample would otherwise make for every path.
     const Cie1931* m_cie = &Cie1931::get();
     std::vector<double> m_xyz;
     std::vector<double> m_splat_xyz, m_splat_y_squared;  ///< empty unless splats were added
