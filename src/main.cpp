@@ -32,14 +32,6 @@ extern "C" void on_signal(int sig) {
     g_cancel.store(true);
 }
 
-const char* integrator_name(spt::IntegratorKind kind) {
-    switch (kind) {
-        case spt::IntegratorKind::bdpt: return "bdpt";
-        case spt::IntegratorKind::vcm: return "vcm";
-        default: return "path";
-    }
-}
-
 void print_summary(const spt::Scene& scene, const spt::RenderSettings& rs, const spt::RenderStats& st,
                    const spt::Film& film, const std::string& bins) {
     const double s = st.seconds > 0 ? st.seconds : 1e-9;
@@ -49,7 +41,7 @@ void print_summary(const spt::Scene& scene, const spt::RenderSettings& rs, const
                  "  effects: %s\n"
                  "  rejected samples: %llu non-finite, %llu negative\n",
                  scene.name.c_str(), rs.width, rs.height, rs.spp, bins.c_str(), rs.threads,
-                 integrator_name(rs.integrator.kind), st.seconds,
+                 spt::integrator_name(rs.integrator.kind), st.seconds,
                  double(st.paths) / s, double(st.rays) / s, double(st.rays),
                  scene.effects.describe().c_str(),
                  static_cast<unsigned long long>(film.rejected_nonfinite()),
@@ -109,9 +101,7 @@ int run(const spt::Options& opt) {
     rs.threads = opt.threads > 0 ? opt.threads
                                  : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
     rs.integrator.max_depth = opt.max_depth;
-    rs.integrator.kind = opt.integrator == "bdpt"  ? spt::IntegratorKind::bdpt
-                         : opt.integrator == "vcm" ? spt::IntegratorKind::vcm
-                                                   : spt::IntegratorKind::path;
+    rs.integrator.kind = opt.integrator;
     rs.integrator.merge_radius = static_cast<float>(opt.merge_radius);
     rs.integrator.wavelengths_per_path = opt.wavelengths_per_path;
     rs.pass_spp = opt.pass_spp;
@@ -132,7 +122,8 @@ int run(const spt::Options& opt) {
     // ---- Checkpoints: what must match to resume, and the state of the last whole pass ----
     const std::string variant = "wavelengths-per-path=" + std::to_string(opt.wavelengths_per_path) +
                                 " dispersion=" + (opt.dispersion ? "on" : "off") +
-                                (opt.integrator == "path" ? "" : " integrator=" + opt.integrator);
+                                (opt.integrator == spt::IntegratorKind::path ? std::string()
+                                    : std::string(" integrator=") + spt::integrator_name(opt.integrator));
     spt::CheckpointInfo info{opt.scene, variant, rs.width, rs.height, rs.spp, opt.spectral.bins,
                              opt.max_depth, rs.seed, 0};
     spt::Film film(rs.width, rs.height);

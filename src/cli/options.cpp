@@ -177,9 +177,9 @@ Options parse_options(const std::vector<std::string>& args) {
             o.wavelengths_per_path = v == "1" ? 1 : 4;
         } else if (flag == "--integrator") {
             const std::string v = next_value();
-            if (v != "path" && v != "bdpt" && v != "vcm")
-                throw UsageError(flag + ": expected path, bdpt or vcm, got '" + v + "'");
-            o.integrator = v;
+            const std::optional<IntegratorKind> kind = integrator_from_name(v);
+            if (!kind) throw UsageError(flag + ": expected path, bdpt or vcm, got '" + v + "'");
+            o.integrator = *kind;
         } else if (flag == "--merge-radius") {
             o.merge_radius = parse_real(flag, next_value(), 1e-12, 1e12, "a radius from 1e-12 to 1e12");
         } else if (flag == "--no-dispersion") {

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "render/integrator.h"
 #include "spectral/spectrum.h"
 
 namespace spt {
@@ -26,7 +27,7 @@ struct Options {
     int threads = 0;
     std::uint64_t seed = 0;
     int max_depth = -1;
-    std::string integrator = "path";  ///< path, bdpt or vcm
+    IntegratorKind integrator = IntegratorKind::path;
     double merge_radius = 0;          ///< vcm's first radius; 0: automatic
     int wavelengths_per_path = 4;  ///< 1 or 4
     bool dispersion = true;        ///< false: dispersive glass gets its mean index

@@ -2,6 +2,8 @@
 // point lights. Area lights (emitting surfaces) are counted when a path hits them.
 #pragma once
 #include <cstdint>
+#include <optional>
+#include <string_view>
 
 #include "core/rng.h"
 #include "scene/scene.h"
@@ -13,6 +15,21 @@ namespace spt {
 /// bidirectional path tracing (bdpt.h), or bidirectional path tracing with vertex merging
 /// (vcm: bdpt.h, vertex_merging.h).
 enum class IntegratorKind { path, bdpt, vcm };
+
+/// The command-line name of an integrator, and back (nullopt for an unknown name).
+constexpr const char* integrator_name(IntegratorKind kind) {
+    switch (kind) {
+        case IntegratorKind::bdpt: return "bdpt";
+        case IntegratorKind::vcm: return "vcm";
+        case IntegratorKind::path: break;
+    }
+    return "path";
+}
+constexpr std::optional<IntegratorKind> integrator_from_name(std::string_view name) {
+    for (IntegratorKind k : {IntegratorKind::path, IntegratorKind::bdpt, IntegratorKind::vcm})
+        if (name == integrator_name(k)) return k;
+    return std::nullopt;
+}
 
 struct IntegratorSettings {
     static constexpr int kUnbounded = -1;

@@ -117,8 +117,7 @@ void trace_light_subpaths(const BdptContext& ctx, const RenderSettings& settings
                           LightSubpathBatch& batch) {
     for (int i = first; i < end; ++i) {
         Rng rng(settings.seed ^ kLightSubpathStream, static_cast<std::uint64_t>(i), static_cast<std::uint64_t>(s));
-        trace_light_subpath(ctx, lambda, eta, rng, stats, batch.vertices, batch.splats);
-        batch.ends.push_back(static_cast<std::uint32_t>(batch.vertices.size()));
+        batch.trace(ctx, lambda, eta, rng, stats);
     }
 }
 

@@ -69,9 +69,8 @@ float default_merge_radius(const BdptContext& ctx, const RenderSettings& setting
     PathStats stats;
     for (int i = 0; i < n; ++i) {
         Rng rng(settings.seed ^ kPilotStream, static_cast<std::uint64_t>(i), 0);
-        trace_light_subpath(ctx, lambda, 0.f, rng, stats, batches[0].vertices, batches[0].splats);
-        batches[0].ends.push_back(static_cast<std::uint32_t>(batches[0].vertices.size()));
-        batches[0].splats.clear();
+        batches[0].trace(ctx, lambda, 0.f, rng, stats);
+        batches[0].splats.clear();  // the pilot only counts photons
     }
     MergePass pilot;
     pilot.build(batches, ctx.scene, lambda, radius, 0.f);

@@ -17,6 +17,12 @@ struct LightSubpathBatch {
     std::vector<BdptVertex> vertices;
     std::vector<std::uint32_t> ends;
     std::vector<Splat> splats;
+
+    /// Traces one more subpath (trace_light_subpath) and records where it ends.
+    void trace(const BdptContext& ctx, const SampledWavelengths& lambda, float eta, Rng& rng, PathStats& stats) {
+        trace_light_subpath(ctx, lambda, eta, rng, stats, vertices, splats);
+        ends.push_back(static_cast<std::uint32_t>(vertices.size()));
+    }
 };
 
 class MergePass {
