@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdint>
 
+#include "core/frame.h"
 #include "geometry/ray.h"
 
 namespace spt {
@@ -12,6 +13,12 @@ struct Plane {
     Vec3 normal;         ///< unit normal; the side it points to is the plane's front
     float offset = 0.f;  ///< dot(normal, p) for points p on the plane
     int material = -1;
+    int light = -1;  ///< emitter attached to the plane (Scene::lights), −1 if none
+    /// Tangents of the plane (u, v directions of its surface coordinates), set by set_frame().
+    Vec3 tangent_u{1, 0, 0}, tangent_v{0, 0, 1};
+
+    /// Sets the tangents from the normal (Frame's orthonormal basis).
+    void set_frame();
 
     /// Distance along the ray to the plane, or infinity when there is no hit with t > 0.
     double intersect_t(const Ray& ray) const {
@@ -40,8 +47,15 @@ struct Plane {
         hit.p = {static_cast<float>(p[0]), static_cast<float>(p[1]), static_cast<float>(p[2])};
         hit.p_err = rounded_point_error(hit.p);
         hit.n = normal;
-        hit.material = material;
+        fill_surface(hit);
         return hit;
+    }
+
+    /// The parts of a hit that do not depend on the ray: shading normal, material, light.
+    void fill_surface(Hit& hit) const {
+        hit.ns = normal;
+        hit.material = material;
+        hit.light = light;
     }
 
     Hit make_hit(const Ray& ray, double t) const {
@@ -54,9 +68,15 @@ struct Plane {
         hit.p = {static_cast<float>(px), static_cast<float>(py), static_cast<float>(pz)};
         hit.p_err = rounded_point_error(hit.p);
         hit.n = normal;
-        hit.material = material;
+        fill_surface(hit);
         return hit;
     }
 };
+
+inline void Plane::set_frame() {
+    const Frame f(normal);
+    tangent_u = f.s;
+    tangent_v = f.t;
+}
 
 }  // namespace spt

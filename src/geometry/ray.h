@@ -1,5 +1,7 @@
 // Rays, hit records, and error-bounded spawning of rays from surfaces.
 #pragma once
+#include <cstdint>
+
 #include "core/vec3.h"
 
 namespace spt {
@@ -10,16 +12,44 @@ struct Ray {
     float t_max = kInfinity;
 };
 
+/// Which shape array a primitive index refers to.
+enum class ShapeKind : unsigned char { sphere, plane, triangle, disk, cylinder, cone };
+
+/// A primitive of the scene: its shape kind and its index in that kind's array, in 32 bits
+/// (the BVH's primitive lists hold these too).
+struct PrimId {
+    static constexpr int kIndexBits = 29;
+    std::uint32_t bits = ~0u;
+
+    PrimId() = default;
+    PrimId(ShapeKind kind, std::uint32_t index) : bits(std::uint32_t(kind) << kIndexBits | index) {}
+    ShapeKind kind() const { return static_cast<ShapeKind>(bits >> kIndexBits); }
+    std::uint32_t index() const { return bits & ((1u << kIndexBits) - 1u); }
+    bool valid() const { return bits != ~0u; }
+    bool operator==(const PrimId&) const = default;
+};
+
 /// A ray-surface intersection. p_err bounds |p − true surface point| per axis, so rays can
 /// leave the surface by exactly as much as the rounding error requires (pbrt's approach)
 /// instead of a fixed epsilon that breaks at large or small scene scales.
+///
+/// Kept at 64 bytes: GCC scalarises an optional<Hit> of that size into registers in the path
+/// loop, and a larger record (with (u, v) inside) went through memory and cost 35 % of the
+/// time per path on cornell. Surface coordinates are therefore computed on request
+/// (Scene::surface_uv), from the primitive and the point.
 struct Hit {
     float t = kInfinity;
     Vec3 p;
     Vec3 p_err;
-    Vec3 n;            ///< unit geometric normal of the shape (outward for spheres)
+    Vec3 n;            ///< unit geometric normal of the shape (outward for closed shapes)
+    /// Unit shading normal, on the side of n (dot(ns, n) > 0): n itself except on meshes
+    /// with vertex normals (smooth shading). BSDFs work around ns; rays leave along n.
+    Vec3 ns;
     int material = -1;
+    int light = -1;    ///< the emitter attached to the shape (index into Scene::lights), or −1
+    PrimId prim;       ///< the primitive hit (set by the scene's intersect)
 };
+static_assert(sizeof(Hit) == 64, "see the comment on Hit");
 
 /// Origin for a ray leaving p towards w: p pushed along ±n past its error box, then one
 /// more ulp away per axis so that rounding cannot bring it back (pbrt-v4 OffsetRayOrigin).

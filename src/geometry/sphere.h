@@ -1,6 +1,7 @@
 // Sphere shape. Intersection in double precision with the geometric discriminant (Ray Tracing
 // Gems ch. 7), so far-away and tiny spheres stay exact; hits are reprojected onto the surface.
 #pragma once
+#include <algorithm>
 #include <cmath>
 
 #include "geometry/ray.h"
@@ -23,6 +24,7 @@ struct Sphere {
     Vec3 center;
     float radius = 1.f;
     int material = -1;
+    int light = -1;  ///< emitter attached to the sphere (Scene::lights), −1 if none
 
     /// Distance to the nearest hit with t > 0, or infinity when there is none.
     double intersect_t(const Ray& ray) const {
@@ -63,7 +65,9 @@ struct Sphere {
                  static_cast<float>(nz * r + center.z)};
         hit.p_err = rounded_point_error(hit.p);
         hit.n = {static_cast<float>(nx), static_cast<float>(ny), static_cast<float>(nz)};
+        hit.ns = hit.n;
         hit.material = material;
+        hit.light = light;
         return hit;
     }
 };

@@ -20,6 +20,10 @@ struct TriangleIntersection {
 struct Triangle {
     Vec3 p0, p1, p2;  ///< counter-clockwise seen from the front (the side n points to)
     int material = -1;
+    int light = -1;       ///< emitter attached to the triangle's shape (Scene::lights), −1 if none
+    /// Per-vertex normals and (u, v) (Scene::triangle_attributes), −1 if none: then (u, v)
+    /// are the barycentrics (b1, b2) and the shading normal is the geometric one.
+    int attributes = -1;
 
     /// Unnormalised geometric normal cross(p1 − p0, p2 − p0), in double.
     void cross_double(double out[3]) const {
@@ -113,7 +117,9 @@ struct Triangle {
         const double inv_len = 1.0 / std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
         hit.n = {static_cast<float>(c[0] * inv_len), static_cast<float>(c[1] * inv_len),
                  static_cast<float>(c[2] * inv_len)};
+        hit.ns = hit.n;
         hit.material = material;
+        hit.light = light;
         return hit;
     }
 };

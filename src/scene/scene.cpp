@@ -81,10 +81,11 @@ void validate_material(const Material& m) {
 std::optional<Hit> Scene::intersect_bvh(const Ray& ray, double t_best, int best_plane) const {
     BvhHit h;
     if (m_bvh.intersect(ray, spheres, triangles, t_best, h)) {
-        if (is_triangle(h.prim)) return triangles[prim_index(h.prim)].make_hit(h.tri);
-        return spheres[prim_index(h.prim)].make_hit(ray, t_best);
+        const auto i = prim_index(h.prim);
+        if (is_triangle(h.prim)) return with_prim(triangles[i].make_hit(h.tri), ShapeKind::triangle, i);
+        return with_prim(spheres[i].make_hit(ray, t_best), ShapeKind::sphere, i);
     }
-    if (best_plane >= 0) return planes[best_plane].make_hit(ray, t_best);
+    if (best_plane >= 0) return with_prim(planes[best_plane].make_hit(ray, t_best), ShapeKind::plane, best_plane);
     return std::nullopt;
 }
 
@@ -102,6 +103,7 @@ void Scene::finalize() {
         require(std::isfinite(s.radius) && s.radius > 0.f, "sphere radius must be > 0 and finite");
         check_material_index(s.material, "a sphere");
     }
+    for (Plane& p : planes) p.set_frame();
     for (const Plane& p : planes) {
         require(finite(p.normal) && std::isfinite(p.offset), "plane must be finite");
         require(std::fabs(length(p.normal) - 1.f) < 1e-4f, "plane normal must be unit length");

@@ -78,12 +78,13 @@ struct Scene {
         m_triangle_lanes.candidates(ray, [&](int i) {
             if (auto ti = triangles[i].intersect(ray, t_best)) t_best = ti->t, best_triangle = &triangles[i], best_ti = ti;
         });
-        if (best_triangle) return best_triangle->make_hit(*best_ti);
-        if (best_sphere) return best_sphere->make_hit(ray, t_best);
+        if (best_triangle) return with_prim(best_triangle->make_hit(*best_ti), ShapeKind::triangle, best_triangle - triangles.data());
+        if (best_sphere) return with_prim(best_sphere->make_hit(ray, t_best), ShapeKind::sphere, best_sphere - spheres.data());
         if (best_plane >= 0) {
             const int axis = m_plane_axis[best_plane];
-            return axis >= 0 ? planes[best_plane].make_axis_hit(ray, t_best, axis)
-                             : planes[best_plane].make_hit(ray, t_best);
+            return with_prim(axis >= 0 ? planes[best_plane].make_axis_hit(ray, t_best, axis)
+                                       : planes[best_plane].make_hit(ray, t_best),
+                             ShapeKind::plane, best_plane);
         }
         return std::nullopt;
     }
@@ -102,6 +103,10 @@ struct Scene {
     }
 
 private:
+    static Hit with_prim(Hit hit, ShapeKind kind, std::ptrdiff_t index) {
+        hit.prim = PrimId(kind, static_cast<std::uint32_t>(index));
+        return hit;
+    }
     /// The rest of intersect() for scenes with a BVH, given the nearest plane so far. Kept
     /// out of line so that the small-scene path stays small enough to inline.
     [[gnu::noinline]] std::optional<Hit> intersect_bvh(const Ray& ray, double t_best, int best_plane) const;
