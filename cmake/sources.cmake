@@ -4,6 +4,7 @@ set(SPT_CORE_SOURCES
     src/cli/progress_bar.cpp
     src/geometry/bvh.cpp
     src/io/atomic_file.cpp
+    src/model/bsdfs/lobe_mix.cpp
     src/io/embedded_files.cpp
     src/io/exr_writer.cpp
     src/io/image_writer.cpp
@@ -15,7 +16,6 @@ set(SPT_CORE_SOURCES
     src/render/bdpt.cpp
     src/render/photon_grid.cpp
     src/render/vertex_merging.cpp
-    src/render/bsdf.cpp
     src/render/checkpoint.cpp
     src/render/film.cpp
     src/render/integrator.cpp

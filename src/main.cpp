@@ -103,6 +103,7 @@ int run(const spt::Options& opt) {
     rs.integrator.max_depth = opt.max_depth;
     rs.integrator.kind = opt.integrator;
     rs.integrator.merge_radius = static_cast<float>(opt.merge_radius);
+    rs.integrator.light_sampling = opt.light_sampling;
     rs.integrator.wavelengths_per_path = opt.wavelengths_per_path;
     rs.pass_spp = opt.pass_spp;
     rs.time_limit = opt.time_limit;
@@ -120,7 +121,9 @@ int run(const spt::Options& opt) {
     }
 
     // ---- Checkpoints: what must match to resume, and the state of the last whole pass ----
+    const char* light_sampling[] = {"", " light-sampling=bsdf", " light-sampling=light"};
     const std::string variant = "wavelengths-per-path=" + std::to_string(opt.wavelengths_per_path) +
+                                light_sampling[static_cast<int>(opt.light_sampling)] +
                                 " dispersion=" + (opt.dispersion ? "on" : "off") +
                                 (opt.integrator == spt::IntegratorKind::path ? std::string()
                                     : std::string(" integrator=") + spt::integrator_name(opt.integrator));

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <numbers>
 
-#include "render/camera.h"
+#include "model/camera.h"
 #include "scene/builtin_scenes.h"
 #include "scene/scene_loader.h"
 #include "test_scenes.h"

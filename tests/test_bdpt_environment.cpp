@@ -35,7 +35,7 @@
 #include <optional>
 #include <string>
 
-#include "render/camera.h"
+#include "model/camera.h"
 #include "scene/scene_loader.h"
 #include "spectral/glass_catalog.h"
 #include "test_scenes.h"

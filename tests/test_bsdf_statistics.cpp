@@ -27,7 +27,7 @@
 
 #include "chi2.h"
 #include "render/bsdf.h"
-#include "render/fresnel.h"
+#include "model/bsdfs/fresnel.h"
 #include "render/material.h"
 #include "spectral/sampled.h"
 #include "spectral/spectrum.h"

@@ -9,7 +9,7 @@
 #include <random>
 
 #include "render/bsdf.h"
-#include "render/fresnel.h"
+#include "model/bsdfs/fresnel.h"
 #include "render/material.h"
 #include "spectral/sampled.h"
 #include "spectral/spectrum.h"

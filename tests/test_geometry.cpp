@@ -14,7 +14,7 @@
 
 #include "core/frame.h"
 #include "geometry/ray.h"
-#include "render/fresnel.h"
+#include "model/bsdfs/fresnel.h"
 #include "scene/scene.h"
 
 namespace {

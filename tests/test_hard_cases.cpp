@@ -41,8 +41,8 @@
 #include <vector>
 
 #include "core/rng.h"
-#include "render/camera.h"
-#include "render/fresnel.h"
+#include "model/camera.h"
+#include "model/bsdfs/fresnel.h"
 #include "scene/scene_loader.h"
 #include "spectral/cie.h"
 #include "test_scenes.h"

@@ -14,7 +14,7 @@
 #include "chi2.h"
 #include "core/sampling.h"
 #include "render/bsdf.h"
-#include "render/fresnel.h"
+#include "model/bsdfs/fresnel.h"
 #include "render/material.h"
 #include "spectral/sampled.h"
 #include "spectral/spectrum.h"

@@ -42,7 +42,7 @@
 #include <functional>
 #include <numbers>
 
-#include "render/camera.h"
+#include "model/camera.h"
 #include "render/vertex_merging.h"
 #include "scene/builtin_scenes.h"
 #include "scene/scene_loader.h"

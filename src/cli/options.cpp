@@ -64,6 +64,10 @@ Options:
                          (bdpt plus vertex merging: photon density estimation as one more
                          MIS strategy, for caustics seen through glass; consistent, the
                          radius shrinks with the passes)
+  --light-sampling MODE  path: mis (default: light sampling and BSDF sampling combined by
+                         multiple importance sampling), bsdf (emitters found only by paths
+                         that hit them) or light (light sampling alone); to measure what MIS
+                         buys. Point lights are always sampled
   --merge-radius R       vcm: merging radius of the first pass in scene units (default:
                          five pixel footprints at the median distance the camera sees,
                          less where a pilot finds photons dense; at most 1% of the scene)
@@ -180,6 +184,12 @@ Options parse_options(const std::vector<std::string>& args) {
             const std::optional<IntegratorKind> kind = integrator_from_name(v);
             if (!kind) throw UsageError(flag + ": expected path, bdpt or vcm, got '" + v + "'");
             o.integrator = *kind;
+        } else if (flag == "--light-sampling") {
+            const std::string v = next_value();
+            if (v == "mis") o.light_sampling = LightSampling::mis;
+            else if (v == "bsdf") o.light_sampling = LightSampling::bsdf;
+            else if (v == "light") o.light_sampling = LightSampling::light;
+            else throw UsageError(flag + ": expected mis, bsdf or light, got '" + v + "'");
         } else if (flag == "--merge-radius") {
             o.merge_radius = parse_real(flag, next_value(), 1e-12, 1e12, "a radius from 1e-12 to 1e12");
         } else if (flag == "--no-dispersion") {

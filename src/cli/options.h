@@ -28,6 +28,7 @@ struct Options {
     std::uint64_t seed = 0;
     int max_depth = -1;
     IntegratorKind integrator = IntegratorKind::path;
+    LightSampling light_sampling = LightSampling::mis;  ///< path: how emitters are found
     double merge_radius = 0;          ///< vcm's first radius; 0: automatic
     int wavelengths_per_path = 4;  ///< 1 or 4
     bool dispersion = true;        ///< false: dispersive glass gets its mean index

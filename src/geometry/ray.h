@@ -77,6 +77,18 @@ inline Ray spawn_ray_to(const Hit& hit, const Vec3& target) {
     return {o, to / dist, dist * (1.f - 1e-4f)};
 }
 
+/// Ray between two points, each pushed off its surface past its error bound towards the other
+/// (a point with a zero normal, a point light or the camera, stays where it is); it stops
+/// just short of the second point, so neither end occludes it (shadow rays, connections).
+inline Ray spawn_ray_between(const Vec3& p0, const Vec3& err0, const Vec3& n0, const Vec3& p1, const Vec3& err1,
+                             const Vec3& n1) {
+    const Vec3 o = offset_ray_origin(p0, err0, n0, p1 - p0);
+    const Vec3 target = offset_ray_origin(p1, err1, n1, o - p1);
+    const Vec3 d = target - o;
+    const float dist = length(d);
+    return {o, d / dist, dist * (1.f - 1e-4f)};  // t_max 0 (no ray) when the points coincide
+}
+
 /// Error bound of a point computed in double precision and rounded to float: half an ulp
 /// per axis from the rounding, padded to a few ulps for the double-precision arithmetic.
 inline Vec3 rounded_point_error(const Vec3& p) { return abs(p) * gamma_bound(5); }

@@ -3,13 +3,13 @@
 
 #include <climits>
 
-#include "render/bsdf.h"
+#include "model/bsdfs/bsdf.h"
 
 namespace spt {
 
 namespace {
 
-enum class Transport : unsigned char { radiance, importance };
+using Transport = TransportMode;
 using Vertex = BdptVertex;
 using VertexType = BdptVertexType;
 
@@ -32,6 +32,24 @@ float convert_density(float pdf, const Vertex& from, const Vertex& to) {
     float result = pdf / d2;
     if (to.on_surface()) result *= std::fabs(dot(to.hit.n, w)) / std::sqrt(d2);
     return result;
+}
+
+/// The BSDF density at a merge point x towards the vertex before it on one side, with the
+/// direction of the other side's light standing in by the normal on wo's side: that
+/// direction is per photon, and for the Lambertian lobes of today's BSDFs the density does
+/// not depend on it (as SmallVCM takes x's own geometry for both sides).
+float reverse_density_at_photon(const Scene& scene, const BdptVertex& x, float hero_nm) {
+    const Bsdf& bsdf = scene.materials[x.hit.material].bsdf;
+    return bsdf_pdf(bsdf, face_forward(x.hit.ns, x.wo), x.wo, x.hit.ns, hero_nm);
+}
+
+/// Importance transport with a shading normal that differs from the geometric one: the
+/// adjoint BSDF gains |wo·ns||wi·ng| / (|wo·ng||wi·ns|) (Veach 1997, §5.3); 1 when ns = n.
+float shading_correction(const Hit& hit, const Vec3& wo, const Vec3& wi) {
+    if (hit.ns == hit.n) return 1.f;
+    const float den = std::fabs(dot(wo, hit.n)) * std::fabs(dot(wi, hit.ns));
+    if (!(den > 0.f)) return 0.f;
+    return std::fabs(dot(wo, hit.ns)) * std::fabs(dot(wi, hit.n)) / den;
 }
 
 /// Densities of delta events are stored as 0; in ratios they cancel, as 1.
@@ -64,11 +82,11 @@ public:
 
 private:
     bool connectible(const Vertex& v) const {
-        return v.type != VertexType::surface || m_scene.materials[v.hit.material].has_diffuse();
+        return v.type != VertexType::surface || m_scene.materials[v.hit.material].has_non_delta();
     }
-    /// Whether merging may happen at v: a surface vertex with a diffuse lobe.
+    /// Whether merging may happen at v: a surface vertex with a non-delta lobe.
     bool mergeable(const Vertex& v) const {
-        return v.type == VertexType::surface && !v.infinite && m_scene.materials[v.hit.material].has_diffuse();
+        return v.type == VertexType::surface && !v.infinite && m_scene.materials[v.hit.material].has_non_delta();
     }
     void random_walk(Ray ray, SampledSpectrum beta, float pdf_dir, int max_vertices, Transport mode,
                      SampledWavelengths& lambda, std::vector<Vertex>& path);
@@ -78,7 +96,7 @@ private:
     float camera_merge_sum(int t) const;
     float other_strategies(int s, int t, int camera_stop) const;
     bool visible(const Vertex& a, const Vertex& b);
-    SampledSpectrum f(const Vertex& v, const Vec3& wi, const SampledWavelengths& lambda) const;
+    SampledSpectrum f_cos(const Vertex& v, const Vec3& wi, const SampledWavelengths& lambda) const;
     int max_depth() const;
     void accumulate(const SampledSpectrum& c, bool terminated);
 
@@ -131,21 +149,23 @@ void Bdpt::random_walk(Ray ray, SampledSpectrum beta, float pdf_dir, int max_ver
         if (!mat.reflects() || static_cast<int>(path.size()) == max_vertices) break;
 
         const float u_lobe = m_rng.uniform(), u1 = m_rng.uniform(), u2 = m_rng.uniform();
-        const std::optional<BsdfSample> bs = sample_bsdf(mat, v.wo, hit->n, lambda, u_lobe, u1, u2);
+        const std::optional<BsdfSample> bs = bsdf_sample(mat.bsdf, v.wo, hit->ns, lambda, u_lobe, u1, u2, mode);
         if (!bs) break;
         Vertex& cur = path.back();
         Vertex& prev = path[path.size() - 2];
         float pdf_rev;
-        if (bs->is_specular) {
+        if (bs->is_delta()) {
             cur.delta = true;
             pdf_fwd = pdf_rev = 0.f;
         } else {
-            pdf_fwd = mis_pdf(mat, cur.wo, bs->wi, hit->n, m_hero);
-            pdf_rev = mis_pdf(mat, bs->wi, cur.wo, hit->n, m_hero);
+            pdf_fwd = bs->pdf;
+            pdf_rev = bsdf_pdf(mat.bsdf, bs->wi, cur.wo, hit->ns, m_hero);
         }
-        // Importance transport has no (η_i/η_t)² compression of radiance.
-        if (mode == Transport::importance) beta *= bs->weight * bs->eta_scale;
-        else beta *= bs->weight, eta_scale *= bs->eta_scale;
+        // The BSDF weighs importance with the adjoint BSDF (no (η_i/η_t)² on refraction).
+        beta *= bs->weight;
+        if (mode == Transport::radiance) eta_scale *= bs->eta_scale;
+        // Importance with shading normals: the adjoint's cosine factors (Veach 1997, §5.3).
+        if (mode == Transport::importance) beta *= shading_correction(cur.hit, cur.wo, bs->wi);
         prev.pdf_rev = convert_density(pdf_rev, cur, prev);
         ray = spawn_ray(cur.hit, bs->wi);
 
@@ -158,8 +178,9 @@ void Bdpt::random_walk(Ray ray, SampledSpectrum beta, float pdf_dir, int max_ver
     }
 }
 
-SampledSpectrum Bdpt::f(const Vertex& v, const Vec3& wi, const SampledWavelengths& lambda) const {
-    return eval_diffuse_f(m_scene.materials[v.hit.material], v.wo, wi, v.hit.n, lambda);
+/// f·|cos θi| at surface vertex v for light arriving from wi (v.wo the other direction).
+SampledSpectrum Bdpt::f_cos(const Vertex& v, const Vec3& wi, const SampledWavelengths& lambda) const {
+    return bsdf_eval(m_scene.materials[v.hit.material].bsdf, v.wo, wi, v.hit.ns, lambda, TransportMode::radiance);
 }
 
 float Bdpt::light_direction_pdf(const Vertex& light, const Vertex& next) const {
@@ -179,7 +200,7 @@ float Bdpt::pdf(const Vertex& v, const Vertex* prev, const Vertex& next) const {
         return convert_density(m_ctx.camera.direction_pdf(dot(wn, m_ctx.camera.forward())), v, next);
     }
     const Vec3 wp = direction(v, *prev);
-    return convert_density(mis_pdf(m_scene.materials[v.hit.material], wp, wn, v.hit.n, m_hero), v, next);
+    return convert_density(bsdf_pdf(m_scene.materials[v.hit.material].bsdf, wp, wn, v.hit.ns, m_hero), v, next);
 }
 
 /// Balance heuristic over all (s', t') with s' + t' = s + t, by walking the path with the
@@ -294,9 +315,7 @@ float Bdpt::camera_merge_sum(int t) const {
         before_pt = r * pt_minus2.mis_sum + (!pt_minus.delta && mergeable(pt_minus) ? rev * m_eta : 0.f) +
                     (!pt_minus.delta && !pt_minus2.delta ? r : 0.f);
     }
-    const Material& mat = m_scene.materials[c.hit.material];
-    const float rev = remap0(convert_density(
-        diffuse_lobe_probability_hero(mat, m_hero) * std::fabs(dot(c.wo, c.hit.n)) * kInvPi, c, pt));
+    const float rev = remap0(convert_density(reverse_density_at_photon(m_scene, c, m_hero), c, pt));
     const float r = rev / remap0(pt.pdf_fwd);
     const float camera_sum = r * before_pt + (!pt.delta && mergeable(pt) ? rev * m_eta : 0.f) +
                              (!pt.delta && !pt_minus.delta ? r : 0.f);
@@ -304,13 +323,10 @@ float Bdpt::camera_merge_sum(int t) const {
 }
 
 bool Bdpt::visible(const Vertex& a, const Vertex& b) {
-    const Vec3 o = offset_ray_origin(a.p(), a.hit.p_err, a.hit.n, b.p() - a.p());
-    const Vec3 target = offset_ray_origin(b.p(), b.hit.p_err, b.hit.n, o - b.p());
-    const Vec3 d = target - o;
-    const float dist = length(d);
-    if (!(dist > 0.f)) return false;
+    const Ray ray = spawn_ray_between(a.p(), a.hit.p_err, a.hit.n, b.p(), b.hit.p_err, b.hit.n);
+    if (!(ray.t_max > 0.f)) return false;
     ++m_stats.rays;
-    return !m_scene.occluded({o, d / dist, dist * (1.f - 1e-4f)});
+    return !m_scene.occluded(ray);
 }
 
 int Bdpt::max_depth() const {
@@ -382,8 +398,8 @@ void Bdpt::splat_light_tracing(std::vector<Splat>& splats) {
         if (!m_ctx.camera.raster_position(-w_cam, px, py)) continue;
         const float cos_cam = dot(-w_cam, m_ctx.camera.forward());
         SampledSpectrum c = qs.beta * (m_ctx.camera.importance(cos_cam) * cos_cam / dist2);
-        if (qs.type == VertexType::surface) c *= f(qs, w_cam, m_lambda);
-        if (qs.on_surface()) c *= std::fabs(dot(qs.hit.n, w_cam));
+        if (qs.type == VertexType::surface) c *= f_cos(qs, w_cam, m_lambda) * shading_correction(qs.hit, qs.wo, w_cam);
+        else if (qs.on_surface()) c *= std::fabs(dot(qs.hit.n, w_cam));  // an area light's origin
         if (c.is_zero() || !visible(qs, pt)) continue;
         c *= mis_weight(s, 1);
         SampledWavelengths lw = m_lambda;
@@ -411,16 +427,15 @@ SampledSpectrum Bdpt::connect() {
                 // The camera path escaped: only s = 0 ends on the environment. Weight 1 when
                 // the environment is not a light of the sampler (no power in 380–780 nm).
                 if (s > 0) continue;
-                const SampledSpectrum c = pt.beta * m_scene.background.sample(m_lambda);
+                const SampledSpectrum c = pt.beta * m_scene.environment()->Le.sample(m_lambda);
                 if (c.is_zero()) continue;
                 accumulate(c * (m_ctx.lights.has_environment() ? mis_weight(0, t) : 1.f), terminated);
                 continue;
             }
             if (s == 0) {
                 // The camera path hits an emitter.
-                const Material& mat = m_scene.materials[pt.hit.material];
-                if (pt.type != VertexType::surface || !mat.is_emissive()) continue;
-                const SampledSpectrum c = pt.beta * mat.emission.sample(m_lambda);
+                if (pt.type != VertexType::surface || pt.hit.light < 0) continue;
+                const SampledSpectrum c = pt.beta * m_scene.emitted(pt.hit, m_lambda);
                 if (c.is_zero()) continue;
                 const float w = m_ctx.lights.origin_pdf(pt.hit) > 0.f ? mis_weight(0, t) : 1.f;
                 accumulate(c * w, terminated);
@@ -431,7 +446,7 @@ SampledSpectrum Bdpt::connect() {
             if (qs.infinite) {
                 // s = 1 on the environment: towards the light subpath's direction (uniform over
                 // the sphere, density environment_pdf), unoccluded to infinity.
-                SampledSpectrum c = qs.beta * pt.beta * f(pt, qs.dir, m_lambda) * std::fabs(dot(pt.hit.n, qs.dir));
+                SampledSpectrum c = qs.beta * pt.beta * f_cos(pt, qs.dir, m_lambda);
                 if (c.is_zero()) continue;
                 ++m_stats.rays;
                 if (m_scene.occluded(spawn_ray(pt.hit, qs.dir))) continue;
@@ -442,10 +457,9 @@ SampledSpectrum Bdpt::connect() {
             const float dist2 = length_squared(d);
             if (!(dist2 > 0.f)) continue;
             const Vec3 w_pt = d / std::sqrt(dist2);  // from pt towards qs
-            SampledSpectrum c = qs.beta * pt.beta * f(pt, w_pt, m_lambda) / dist2;
-            if (qs.type == VertexType::surface) c *= f(qs, -w_pt, m_lambda);
-            if (qs.on_surface()) c *= std::fabs(dot(qs.hit.n, w_pt));
-            c *= std::fabs(dot(pt.hit.n, w_pt));
+            SampledSpectrum c = qs.beta * pt.beta * f_cos(pt, w_pt, m_lambda) / dist2;
+            if (qs.type == VertexType::surface) c *= f_cos(qs, -w_pt, m_lambda) * shading_correction(qs.hit, qs.wo, -w_pt);
+            else if (qs.on_surface()) c *= std::fabs(dot(qs.hit.n, w_pt));  // an area light's origin
             if (c.is_zero() || !visible(pt, qs)) continue;
             accumulate(c * mis_weight(s, t), terminated);
         }
@@ -464,8 +478,7 @@ SampledSpectrum Bdpt::merge(const MergeContext& mc) {
     for (int t = 2; t <= n_camera; ++t) {
         const Vertex& c = m_camera[t - 1];
         if (!mergeable(c) || c.beta.is_zero()) continue;
-        const Material& mat = m_scene.materials[c.hit.material];
-        const SampledSpectrum f_c = c.beta * mat.kd.sample(m_lambda) * kInvPi;
+        const Bsdf& bsdf = m_scene.materials[c.hit.material].bsdf;
         const float cos_o = dot(c.wo, c.hit.n);
         const float camera_density = remap0(c.pdf_fwd);
         const float merge_density = camera_density * mc.eta;
@@ -478,7 +491,11 @@ SampledSpectrum Bdpt::merge(const MergeContext& mc) {
             if (q.s + t - 3 > max_depth() || dot(q.n, c.hit.n) < 0.5f || cos_o * dot(q.wo, c.hit.n) <= 0.f) return;
             const float w = merge_density / (camera_side + camera_density * q.light_sum);
             if (!(w > 0.f) || !std::isfinite(w)) return;
-            accumulate(f_c * q.beta * (w * inv_eta), c.terminated || q.terminated);
+            // f without the cosine: the photon's throughput is flux arriving at its point.
+            const float cos_q = std::fabs(dot(q.wo, c.hit.ns));
+            if (!(cos_q > 0.f)) return;
+            const SampledSpectrum f = bsdf_eval(bsdf, c.wo, q.wo, c.hit.ns, m_lambda, TransportMode::radiance) / cos_q;
+            accumulate(c.beta * f * q.beta * (w * inv_eta), c.terminated || q.terminated);
         });
     }
     return result();
@@ -547,13 +564,11 @@ MergeContext::Photon make_photon(const Scene& scene, const BdptVertex* path, int
     // camera-side density is q's BSDF density towards it (independent of the camera's
     // direction but for the side, which merge() checks); q's is the camera's density of c,
     // a factor the caller applies.
-    const Material& mat = scene.materials[q.hit.material];
-    const float rev = remap0(convert_density(
-        diffuse_lobe_probability_hero(mat, hero_nm) * std::fabs(dot(q.wo, q.hit.n)) * kInvPi, q, q_minus));
+    const float rev = remap0(convert_density(reverse_density_at_photon(scene, q, hero_nm), q, q_minus));
     const float r = rev / remap0(q_minus.pdf_fwd);
     const bool delta_before = s - 2 > 0 ? path[s - 3].delta : q_minus.delta_light;
     const bool merge_q_minus = s - 2 >= 2 && !q_minus.delta && q_minus.type == BdptVertexType::surface &&
-                               !q_minus.infinite && scene.materials[q_minus.hit.material].has_diffuse();
+                               !q_minus.infinite && scene.materials[q_minus.hit.material].has_non_delta();
     const float sum_q_minus = r * (s >= 3 ? path[s - 3].mis_sum : 0.f) + (merge_q_minus ? rev * eta : 0.f) +
                               (!q_minus.delta && !delta_before ? r : 0.f);
     photon.light_sum = (sum_q_minus + (!q_minus.delta ? 1.f : 0.f)) / remap0(q.pdf_fwd);

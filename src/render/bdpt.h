@@ -31,7 +31,7 @@
 
 #include "core/rng.h"
 #include "render/bdpt_vertex.h"
-#include "render/camera.h"
+#include "model/camera.h"
 #include "render/integrator.h"
 #include "render/light_sampling.h"
 #include "render/photon_grid.h"

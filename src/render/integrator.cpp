@@ -1,32 +1,77 @@
-// The path loop. State carried between bounces: throughput beta, the accumulated radiance L
-// and eta_scale (so roulette ignores the radiance scaling of refraction).
+// The path loop. State carried between bounces: throughput beta, the accumulated radiance L,
+// eta_scale (so roulette ignores the radiance scaling of refraction) and what the MIS weight
+// of emission found by the next bounce needs: the BSDF density of its direction and the
+// vertex it left from.
 #include "render/integrator.h"
 
-#include "render/bsdf.h"
+#include "model/bsdfs/bsdf.h"
 
 namespace spt {
 
 namespace {
 
+/// Power heuristic (β = 2, Veach 1997) for a strategy of density `a` against one of density `b`.
+inline float power_heuristic(float a, float b) {
+    const float a2 = a * a, b2 = b * b;
+    return a2 > 0.f ? a2 / (a2 + b2) : 0.f;
+}
+
+/// The light-sampling reference at a hit: shading normal on wo's side, and whether light
+/// from behind matters (a BSDF that transmits).
+inline LightSampleContext light_context(const Hit& hit, const Material& mat, const Vec3& wo) {
+    return {hit.p, hit.p_err, hit.n, face_forward(hit.ns, wo), mat.flags.has(BsdfFlags::transmission)};
+}
+
 /// Direct light from every point light through one shadow ray each (delta lights: no MIS).
 /// Out of line: scenes without point lights never call it, and inlined it changes the
 /// register allocation of the whole path loop (about 3 % more instructions per path).
 [[gnu::noinline]] SampledSpectrum sample_point_lights(const Scene& scene, const Material& mat, const Hit& hit,
-                                    const Vec3& wo, const SampledWavelengths& lambda,
-                                    PathStats& stats) {
+                                                      const Vec3& wo, const SampledWavelengths& lambda,
+                                                      PathStats& stats) {
     SampledSpectrum Ld(0.f);
-    for (const PointLight& light : scene.point_lights) {
+    for (int i : scene.point_light_indices) {
+        const PointLight& light = std::get<PointLight>(scene.lights[i]);
         const Vec3 to_light = light.position - hit.p;
         const float dist2 = length_squared(to_light);
         if (!(dist2 > 0.f)) continue;  // light exactly on the surface: no defined direction
         const Vec3 wi = to_light / std::sqrt(dist2);
-        const SampledSpectrum f_cos = eval_diffuse_cos(mat, wo, wi, hit.n, lambda);
+        const SampledSpectrum f_cos = bsdf_eval(mat.bsdf, wo, wi, hit.ns, lambda, TransportMode::radiance);
         if (f_cos.is_zero()) continue;
         ++stats.rays;
         if (scene.occluded(spawn_ray_to(hit, light.position))) continue;
         Ld += f_cos * light.intensity.sample(lambda) / dist2;
     }
     return Ld;
+}
+
+/// Direct light from one of the other lights, chosen by power, through one shadow ray,
+/// weighted against BSDF sampling by the power heuristic (Veach 1997, §9.2).
+[[gnu::noinline]] SampledSpectrum sample_area_light(const Scene& scene, const Material& mat, const Hit& hit,
+                                                    const LightSampleContext& ctx, const Vec3& wo,
+                                                    const SampledWavelengths& lambda, float u_light, float u1,
+                                                    float u2, bool mis, PathStats& stats) {
+    float choice = 0.f;
+    const int index = scene.area_light_choice.sample(u_light, choice);
+    const std::optional<LightSample> ls = light_sample_li(scene.lights[index], ctx, lambda, u1, u2);
+    if (!ls) return SampledSpectrum(0.f);
+    const SampledSpectrum f_cos = bsdf_eval(mat.bsdf, wo, ls->wi, hit.ns, lambda, TransportMode::radiance);
+    if (f_cos.is_zero()) return SampledSpectrum(0.f);
+    ++stats.rays;
+    const Ray shadow = ls->infinite ? spawn_ray(hit, ls->wi) : spawn_ray_between(hit.p, hit.p_err, hit.n, ls->p, ls->p_err, ls->n);
+    if (scene.occluded(shadow)) return SampledSpectrum(0.f);
+    const float pdf_light = choice * ls->pdf;
+    if (!mis) return f_cos * ls->L / pdf_light;
+    const float pdf_bsdf = bsdf_pdf(mat.bsdf, wo, ls->wi, hit.ns, lambda.lambda[0]);
+    return f_cos * ls->L * (power_heuristic(pdf_light, pdf_bsdf) / pdf_light);
+}
+
+/// MIS weight of emission that BSDF sampling found along `wi` from `prev` (light `index`,
+/// reached at `hit`, or escaped when hit is null) against sampling that light directly.
+[[gnu::noinline]] float emission_weight(const Scene& scene, int index, const LightSampleContext& prev,
+                                        float pdf_bsdf, const Vec3& wi, const Hit* hit) {
+    const float choice = scene.area_light_choice.probability(index);
+    if (choice == 0.f) return 1.f;  // a light that next-event estimation never samples
+    return power_heuristic(pdf_bsdf, choice * light_pdf_li(scene.lights[index], prev, wi, hit));
 }
 
 }  // namespace
@@ -41,32 +86,68 @@ namespace {
                            SampledWavelengths& lambda, Rng& rng, PathStats& stats) {
     SampledSpectrum L(0.f), beta(1.f);
     float eta_scale = 1.f;
-    const bool nee = scene.effects.point_lights;
+    const bool point_nee = scene.effects.point_lights;
+    // Lights other than points are sampled only when the scene has them: scenes without
+    // them draw no random numbers for it and take the loop of before.
+    const bool area_nee = settings.light_sampling != LightSampling::bsdf && !scene.area_light_choice.empty();
+    // Emission found by BSDF sampling where a light could also have been sampled: weighted
+    // by MIS after a non-delta bounce (the state below); from the camera or after a delta
+    // bounce no light sample could have found it (weight 1).
+    bool mis_emission = false;
+    float prev_pdf = 0.f;
+    LightSampleContext prev_ctx;
     for (int depth = 0;; ++depth) {
         // ---- Find the next vertex; escaping rays see the environment ----
         ++stats.rays;
         const std::optional<Hit> hit = scene.intersect(ray);
         if (!hit) {
-            if (scene.effects.background) L += beta * scene.background.sample(lambda);
+            if (const EnvironmentLight* env = scene.environment()) {
+                const float w = mis_emission ? emission_weight(scene, scene.environment_index, prev_ctx, prev_pdf, ray.d, nullptr) : 1.f;
+                L += beta * env->Le.sample(lambda) * w;
+            }
             break;
         }
         const Material& mat = scene.materials[hit->material];
         const Vec3 wo = -ray.d;
 
-        // ---- Emission found by the path (area lights have no light sampling: no MIS) ----
-        if (mat.is_emissive()) L += beta * mat.emission.sample(lambda);
+        // ---- Emission found by the path ----
+        if (hit->light >= 0) {
+            const float w = mis_emission ? emission_weight(scene, hit->light, prev_ctx, prev_pdf, ray.d, &*hit) : 1.f;
+            L += beta * scene.emitted(*hit, lambda) * w;
+        }
         if (!mat.reflects() || depth == settings.max_depth) break;
 
-        // ---- Next-event estimation at vertices with a non-specular lobe ----
-        if (nee && mat.has_diffuse()) L += beta * sample_point_lights(scene, mat, *hit, wo, lambda, stats);
+        // ---- Next-event estimation at vertices with a non-delta lobe: every point light,
+        // and one other light chosen by power ----
+        const bool non_delta = mat.has_non_delta();
+        if (point_nee && non_delta) L += beta * sample_point_lights(scene, mat, *hit, wo, lambda, stats);
+        LightSampleContext ctx;
+        if (area_nee && non_delta) {
+            ctx = light_context(*hit, mat, wo);
+            const float ul = rng.uniform(), ul1 = rng.uniform(), ul2 = rng.uniform();
+            L += beta * sample_area_light(scene, mat, *hit, ctx, wo, lambda, ul, ul1, ul2,
+                                          settings.light_sampling == LightSampling::mis, stats);
+        }
 
         // ---- Continue the path ----
         const float u_lobe = rng.uniform(), u1 = rng.uniform(), u2 = rng.uniform();
-        const std::optional<BsdfSample> bs = sample_bsdf(mat, wo, hit->n, lambda, u_lobe, u1, u2);
+        const std::optional<BsdfSample> bs =
+            bsdf_sample(mat.bsdf, wo, hit->ns, lambda, u_lobe, u1, u2, TransportMode::radiance);
         if (!bs) break;
         beta *= bs->weight;
         eta_scale *= bs->eta_scale;
         ray = spawn_ray(*hit, bs->wi);
+        if (area_nee) {
+            mis_emission = !bs->is_delta() && settings.light_sampling == LightSampling::mis;
+            prev_pdf = bs->pdf;
+            prev_ctx = ctx;
+            // Light sampling alone: emission that BSDF sampling finds after a non-delta
+            // bounce is left to the light samples (weight 0), except from lights they never choose.
+            if (settings.light_sampling == LightSampling::light && !bs->is_delta()) {
+                mis_emission = true;
+                prev_pdf = 0.f;
+            }
+        }
 
         // ---- Russian roulette: survive with probability ~ throughput, at most 0.95 so that
         // lossless paths (mirrors, albedo 1) still end ----

@@ -1,5 +1,7 @@
-// Unidirectional path tracing (Kajiya) with Russian roulette and next-event estimation to
-// point lights. Area lights (emitting surfaces) are counted when a path hits them.
+// Unidirectional path tracing (Kajiya) with Russian roulette and next-event estimation: every
+// point light at each vertex with a non-delta lobe, and one other light (emitting shapes,
+// emitting planes, the environment) chosen by power, combined with BSDF sampling by multiple
+// importance sampling (power heuristic).
 #pragma once
 #include <cstdint>
 #include <optional>
@@ -31,12 +33,20 @@ constexpr std::optional<IntegratorKind> integrator_from_name(std::string_view na
     return std::nullopt;
 }
 
+/// How the path tracer finds lights other than point lights: next-event estimation and BSDF
+/// sampling combined by MIS (the default), BSDF sampling alone (emission counted only where
+/// paths hit it: the estimator before light sampling), or light sampling alone (emission that
+/// BSDF sampling finds after a non-delta bounce is not counted). All three are unbiased; the
+/// last two exist to measure what MIS buys and to test it.
+enum class LightSampling { mis, bsdf, light };
+
 struct IntegratorSettings {
     static constexpr int kUnbounded = -1;
     IntegratorKind kind = IntegratorKind::path;
     int max_depth = kUnbounded;  ///< scattering events allowed; kUnbounded relies on roulette
     bool roulette = true;
     int roulette_depth = 3;      ///< first bounce at which roulette may end a path
+    LightSampling light_sampling = LightSampling::mis;
     /// 4: the hero wavelength set (default); 1: the hero alone, for measuring what the
     /// companions save (the film weights stay unbiased either way).
     int wavelengths_per_path = kLambdaCount;

@@ -10,9 +10,8 @@
 //     leaves the disk along d.
 // A light is chosen with probability proportional to its power (mean over 380–780 nm of
 // 4π·I for points, 2π·A·Le for two-sided area emitters, 4π·πR²·Le for the environment: the
-// flux through the disk from every direction). For area emitters the choice probability over
-// the area is then 2π·Le/P_total: a property of the material alone, so the density of a point
-// that a camera path happens to hit needs no shape identifier.
+// flux through the disk from every direction). A camera path that hits an emitter finds its
+// light through the hit (Hit::light), and with it the density of that point.
 //
 // The environment as a vertex lies at infinity: it is measured by direction. Its density is
 // P(choose it)/(4π) in solid angle (environment_pdf), and the first vertex x of its subpath
@@ -44,33 +43,18 @@
 #include <optional>
 #include <vector>
 
+#include "model/lights/area_emission.h"
+#include "model/lights/light_sample.h"
 #include "scene/scene.h"
 #include "spectral/sampled.h"
 
 namespace spt {
 
-/// A sampled light-path origin: the point, the first direction, the emitted quantity and
-/// the densities that produced them.
-struct LightOrigin {
-    Vec3 p, p_err;
-    Vec3 n;              ///< surface normal (zero for point lights and the environment)
-    Vec3 w;              ///< emission direction (unit)
-    SampledSpectrum Le;  ///< radiance (area, environment) or intensity (point) along w
-    /// Area density of the point, light choice included (1·choice if delta). Environment:
-    /// the planar density 1/(πR²) of the disk point, without the choice.
-    float pdf_pos = 0;
-    /// Solid-angle density of w. Environment: 1/(4π) times the choice probability.
-    float pdf_dir = 0;
-    bool delta_position = false;
-    bool environment = false;  ///< the constant environment: p is on the disk, w the direction
-    bool blocked = false;      ///< environment: an infinite plane cuts the ray upstream of p
-};
-
 class LightSampler {
 public:
     explicit LightSampler(const Scene& scene);
 
-    bool empty() const { return m_lights.empty(); }
+    bool empty() const { return m_choice.empty(); }
     bool has_environment() const { return m_environment_choice > 0.f; }
 
     /// Samples a light ∝ power, a point on it and a direction; nullopt when there is none.
@@ -94,23 +78,15 @@ public:
     float scene_radius() const { return m_radius; }
 
     /// Solid-angle density of emitting towards w from an area emitter of normal n.
-    static float direction_pdf(const Vec3& n, const Vec3& w) { return 0.5f * std::fabs(dot(n, w)) * kInvPi; }
+    static float direction_pdf(const Vec3& n, const Vec3& w) { return two_sided_direction_pdf(n, w); }
 
 private:
-    enum class Kind { point, sphere, triangle, environment };
-    struct Entry {
-        Kind kind;
-        int index;  ///< into the scene's point_lights, spheres or triangles (environment: -1)
-    };
     const Scene& m_scene;
-    std::vector<Entry> m_lights;
-    std::vector<float> m_cdf;               ///< cumulative choice probabilities
-    std::vector<float> m_choice;            ///< choice probability of each light
-    std::vector<float> m_material_area_pdf;  ///< 2π·Le/P_total per material (0: not sampled)
-    std::vector<int> m_emissive_planes;     ///< indices of emitting planes (never sampled)
-    Vec3 m_center;                          ///< bounding sphere of the environment's disk
+    LightDistribution m_choice;  ///< over Scene::lights: those that can start a subpath, by power
+    std::vector<int> m_blockers;  ///< planes (indices) that may hide the environment upstream
+    Vec3 m_center;                ///< bounding sphere of the environment's disk
     float m_radius = 0.f;
-    float m_environment_choice = 0.f;       ///< its choice probability (0: no environment)
+    float m_environment_choice = 0.f;  ///< its choice probability (0: no environment)
 };
 
 }  // namespace spt

@@ -18,7 +18,7 @@ void MergePass::build(std::vector<LightSubpathBatch>& batches, const Scene& scen
             // From the second bounce of light on (light index ≥ 2; see Bdpt::other_strategies).
             for (std::uint32_t v = begin + 2; v < offset + end; ++v) {
                 const BdptVertex& x = m_vertices[v];
-                if (x.type == BdptVertexType::surface && !x.infinite && scene.materials[x.hit.material].has_diffuse())
+                if (x.type == BdptVertexType::surface && !x.infinite && scene.materials[x.hit.material].has_non_delta())
                     photons.push_back(make_photon(scene, &m_vertices[begin], static_cast<int>(v - begin) + 1, eta,
                                                   lambda.lambda[0]));
             }

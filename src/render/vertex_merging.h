@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "render/bdpt.h"
-#include "render/camera.h"
+#include "model/camera.h"
 #include "render/renderer.h"
 
 namespace spt {

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <sstream>
 
+#include "geometry/aabb.h"
+
 namespace spt {
 
 namespace {
@@ -43,33 +45,74 @@ void check_spectrum(const Spectrum& s, const std::string& what, float lo, float 
 
 void Scene::disable_dispersion() {
     for (Material& m : materials) {
-        if (m.eta.is_constant()) continue;
+        LobeMixBsdf* mix = std::get_if<LobeMixBsdf>(&m.bsdf);
+        if (!mix || mix->eta.is_constant()) continue;
         double sum = 0;
         int n = 0;
-        for (double l = Spectrum::kBinMin; l <= Spectrum::kBinMax; l += 1.0, ++n) sum += m.eta.source().eval(l);
-        m.eta = Spectrum(SpectrumSource::constant(sum / n), SpectralResolution{});
+        for (double l = Spectrum::kBinMin; l <= Spectrum::kBinMax; l += 1.0, ++n) sum += mix->eta.source().eval(l);
+        mix->eta = Spectrum(SpectrumSource::constant(sum / n), SpectralResolution{});
     }
     finalize();
 }
 
 int Scene::add_material(Material m) {
+    m.flags = bsdf_flags(m.bsdf);
     materials.push_back(std::move(m));
     return static_cast<int>(materials.size()) - 1;
 }
 
+void Scene::add_point_light(const Vec3& position, Spectrum intensity) {
+    lights.emplace_back(PointLight{position, std::move(intensity)});
+}
+
+void Scene::set_background(Spectrum radiance) {
+    for (std::size_t i = 0; i < lights.size(); ++i) {
+        if (!std::holds_alternative<EnvironmentLight>(lights[i])) continue;
+        lights.erase(lights.begin() + static_cast<std::ptrdiff_t>(i));
+        // Later lights moved down by one: so must the shapes' indices of them.
+        auto shift = [&](auto& shapes) {
+            for (auto& shape : shapes)
+                if (shape.light > static_cast<int>(i)) --shape.light;
+        };
+        shift(spheres), shift(planes), shift(triangles);
+        break;
+    }
+    if (!radiance.is_zero()) lights.emplace_back(EnvironmentLight{std::move(radiance), {}, 1.f});
+}
+
+int Scene::add_emitter(ShapeKind kind, Spectrum radiance) {
+    switch (kind) {
+        case ShapeKind::sphere: lights.emplace_back(SphereLight{{}, std::move(radiance)}); break;
+        case ShapeKind::plane: lights.emplace_back(PlaneLight{{}, std::move(radiance)}); break;
+        case ShapeKind::triangle: lights.emplace_back(TriangleMeshLight{{}, {}, 0.f, std::move(radiance)}); break;
+        default: throw SceneError("this shape cannot emit yet");
+    }
+    return static_cast<int>(lights.size()) - 1;
+}
+
+void Scene::surface_uv(const Hit& hit, float& u, float& v) const {
+    (void)hit;  // MERGE-SHAPES: the shapes' uv() arrive with the shapes branch
+    u = v = 0.f;
+}
+
+void validate_emission(const Spectrum& s, const std::string& what) { check_spectrum(s, what, 0.f, 1e30f); }
+
 void validate_material(const Material& m) {
-    const float big = 1e30f;
     const std::string who = "material '" + m.name + "'";
-    check_spectrum(m.kd, who + " kd", 0.f, 1.f);
-    check_spectrum(m.ks, who + " ks", 0.f, 1.f);
-    check_spectrum(m.kt, who + " kt", 0.f, 1.f);
-    check_spectrum(m.emission, who + " emission", 0.f, big);
-    if (m.has_transmission()) check_spectrum(m.eta, who + " index of refraction", 1.f, 100.f);
+    if (const DiffuseBsdf* d = std::get_if<DiffuseBsdf>(&m.bsdf)) {
+        check_spectrum(d->kd, who + " kd", 0.f, 1.f);
+        return;
+    }
+    const LobeMixBsdf& b = std::get<LobeMixBsdf>(m.bsdf);
+    check_spectrum(b.kd, who + " kd", 0.f, 1.f);
+    check_spectrum(b.ks, who + " ks", 0.f, 1.f);
+    check_spectrum(b.kt, who + " kt", 0.f, 1.f);
+    if (b.has_transmission()) check_spectrum(b.eta, who + " index of refraction", 1.f, 100.f);
     // Energy conservation at every wavelength, for both what the renderer samples (bins)
     // and the exact source (so a scene is valid whatever --spectral-bins says).
     for (float l = kLambdaMin; l <= kLambdaMax; l += 1.f) {
-        const double binned = double(m.kd.eval(l)) + m.ks.eval(l) + m.kt.eval(l);
-        const double exact = m.kd.source().eval(l) + m.ks.source().eval(l) + m.kt.source().eval(l);
+        const double binned = double(b.kd.eval(l)) + b.ks.eval(l) + b.kt.eval(l);
+        const double exact = b.kd.source().eval(l) + b.ks.source().eval(l) + b.kt.source().eval(l);
         if (binned <= 1.0 + 1e-6 && exact <= 1.0 + 1e-6) continue;
         std::ostringstream msg;
         msg << who << ": kd + ks + kt = " << std::max(binned, exact) << " at " << l
@@ -92,8 +135,10 @@ std::optional<Hit> Scene::intersect_bvh(const Ray& ray, double t_best, int best_
 bool Scene::occluded_bvh(const Ray& ray) const { return m_bvh.occluded(ray, spheres, triangles); }
 
 void Scene::finalize() {
-    const float big = 1e30f;
-    for (const Material& m : materials) validate_material(m);
+    for (Material& m : materials) {
+        validate_material(m);
+        m.flags = bsdf_flags(m.bsdf);
+    }
     auto check_material_index = [&](int index, const std::string& who) {
         require(index >= 0 && index < static_cast<int>(materials.size()),
                 who + " refers to a material that does not exist");
@@ -114,11 +159,6 @@ void Scene::finalize() {
         require(!t.is_degenerate(), "triangle has zero area (collinear or repeated vertices)");
         check_material_index(t.material, "a triangle");
     }
-    for (const PointLight& l : point_lights) {
-        require(finite(l.position), "point light position must be finite");
-        check_spectrum(l.intensity, "point light intensity", 0.f, big);
-    }
-    check_spectrum(background, "background radiance", 0.f, big);
     require(width > 0 && height > 0 && spp > 0, "image size and spp must be positive");
     require(finite(camera.position) && finite(camera.look_at) && finite(camera.up),
             "camera vectors must be finite");
@@ -152,20 +192,99 @@ void Scene::finalize() {
         for (const Triangle& t : triangles) bounds.push_back(bounding_sphere(t));
     m_triangle_lanes.build(bounds);
 
+    finalize_lights();
+
     // Which effects are called for: only materials that some shape uses count.
     effects = Effects{};
-    effects.point_lights = !point_lights.empty();
-    effects.background = !background.is_zero();
+    effects.point_lights = !point_light_indices.empty();
+    effects.background = environment_index >= 0;
+    for (const Light& l : lights)
+        effects.emissive_surfaces |= !std::holds_alternative<PointLight>(l) && !std::holds_alternative<EnvironmentLight>(l);
     auto analyse = [&](int index) {
         const Material& m = materials[index];
-        effects.emissive_surfaces |= m.is_emissive();
-        effects.mirror |= m.has_mirror() || m.has_transmission();
-        effects.transmission |= m.has_transmission();
-        effects.dispersion |= m.is_dispersive();
+        effects.mirror |= m.flags.has(BsdfFlags::delta);
+        effects.transmission |= m.flags.has(BsdfFlags::transmission);
+        effects.dispersion |= m.flags.has(BsdfFlags::dispersive);
     };
     for (const Sphere& s : spheres) analyse(s.material);
     for (const Plane& p : planes) analyse(p.material);
     for (const Triangle& t : triangles) analyse(t.material);
+}
+
+void Scene::finalize_lights() {
+    // The bounding sphere of what light subpaths from the environment should reach, and of
+    // the disk an infinite plane's selection power is measured over.
+    Aabb box;
+    for (const Sphere& s : spheres) {
+        const Vec3 r(s.radius, s.radius, s.radius);
+        box.expand(s.center - r);
+        box.expand(s.center + r);
+    }
+    for (const Triangle& t : triangles) box.expand(t.p0), box.expand(t.p1), box.expand(t.p2);
+    for (const Light& l : lights)
+        if (const PointLight* p = std::get_if<PointLight>(&l)) box.expand(p->position);
+    box.expand(camera.position);
+    bounds_center = box.centroid();
+    bounds_radius = 0.5f * length(box.hi - box.lo);
+    if (!(bounds_radius > 0.f)) bounds_radius = 1.f;  // a lone camera: any radius is correct
+
+    // Each emitter gets its shape's geometry; a light that no shape refers to is an error.
+    std::vector<char> attached(lights.size(), 0);
+    auto light_of = [&](int index, const char* shape) -> Light& {
+        require(index >= 0 && index < static_cast<int>(lights.size()), std::string("a ") + shape +
+                                                                            " refers to a light that does not exist");
+        attached[static_cast<std::size_t>(index)] = 1;
+        return lights[static_cast<std::size_t>(index)];
+    };
+    for (Light& l : lights)
+        if (TriangleMeshLight* m = std::get_if<TriangleMeshLight>(&l)) m->triangles.clear();
+    for (const Sphere& s : spheres) {
+        if (s.light < 0) continue;
+        SphereLight* l = std::get_if<SphereLight>(&light_of(s.light, "sphere"));
+        require(l != nullptr, "an emitting sphere's light is not a sphere light");
+        l->sphere = s;
+    }
+    for (const Plane& p : planes) {
+        if (p.light < 0) continue;
+        PlaneLight* l = std::get_if<PlaneLight>(&light_of(p.light, "plane"));
+        require(l != nullptr, "an emitting plane's light is not a plane light");
+        l->plane = p;
+        l->scene_radius = bounds_radius;
+    }
+    for (const Triangle& t : triangles) {
+        if (t.light < 0) continue;
+        TriangleMeshLight* l = std::get_if<TriangleMeshLight>(&light_of(t.light, "triangle"));
+        require(l != nullptr, "an emitting triangle's light is not a triangle light");
+        l->add(t);
+    }
+
+    point_light_indices.clear();
+    environment_index = -1;
+    std::vector<float> area_power(lights.size(), 0.f);
+    for (std::size_t i = 0; i < lights.size(); ++i) {
+        Light& light = lights[i];
+        if (PointLight* p = std::get_if<PointLight>(&light)) {
+            require(finite(p->position), "point light position must be finite");
+            check_spectrum(p->intensity, "point light intensity", 0.f, 1e30f);
+            point_light_indices.push_back(static_cast<int>(i));
+            continue;
+        }
+        if (EnvironmentLight* e = std::get_if<EnvironmentLight>(&light)) {
+            require(environment_index < 0, "a scene has at most one environment");
+            check_spectrum(e->Le, "background radiance", 0.f, 1e30f);
+            e->center = bounds_center;
+            e->radius = bounds_radius;
+            environment_index = static_cast<int>(i);
+        } else {
+            require(attached[i] != 0, "an emitter is attached to no shape");
+            std::visit([&](auto& l) {
+                if constexpr (requires { l.Le; }) check_spectrum(l.Le, "emission", 0.f, 1e30f);
+            }, light);
+            if (TriangleMeshLight* m = std::get_if<TriangleMeshLight>(&light)) m->finish();
+        }
+        area_power[i] = light_power(light);
+    }
+    area_light_choice.build(area_power);
 }
 
 }  // namespace spt

@@ -11,9 +11,10 @@
 #include "geometry/sphere.h"
 #include "geometry/sphere_lanes.h"
 #include "geometry/triangle.h"
-#include "render/camera.h"
-#include "render/material.h"
-#include "render/point_light.h"
+#include "model/camera.h"
+#include "model/lights/light.h"
+#include "model/lights/light_distribution.h"
+#include "model/material.h"
 #include "scene/effects.h"
 
 namespace spt {
@@ -23,10 +24,13 @@ struct SceneError : std::runtime_error {
     using std::runtime_error::runtime_error;
 };
 
-/// Checks one material: kd, ks, kt in [0, 1] with kd + ks + kt ≤ 1 at every wavelength, a
-/// finite non-negative emission, an index of refraction in [1, 100] where it is used.
-/// Throws SceneError naming the defect.
+/// Checks one material's BSDF parameters (reflectances in [0, 1], kd + ks + kt ≤ 1 at every
+/// wavelength, an index of refraction in [1, 100] where it is used). Throws SceneError
+/// naming the defect.
 void validate_material(const Material& m);
+
+/// Checks an emitted spectrum: finite and non-negative over the sampled range.
+void validate_emission(const Spectrum& s, const std::string& what);
 
 struct Scene {
     std::string name;
@@ -38,13 +42,42 @@ struct Scene {
     std::vector<Plane> planes;
     /// Triangles of meshes, quads and single triangles, in one flat array.
     std::vector<Triangle> triangles;
-    std::vector<PointLight> point_lights;
-    Spectrum background;  ///< radiance of rays that escape (zero: black)
+    /// Every light: point lights, the emitters attached to shapes (a shape's `light` is its
+    /// index here) and the environment. finalize() copies each emitting shape's geometry
+    /// into its light, so shapes may change until then.
+    std::vector<Light> lights;
 
     Effects effects;  ///< filled by finalize()
 
+    /// Derived by finalize(): the point lights (each sampled at every vertex: no random
+    /// numbers, no MIS), the other lights chosen by power for next-event estimation, the
+    /// environment's index (−1: black) and the bounding sphere of the finite shapes, the
+    /// camera and the point lights.
+    std::vector<int> point_light_indices;
+    LightDistribution area_light_choice;
+    int environment_index = -1;
+    Vec3 bounds_center;
+    float bounds_radius = 1.f;
+
     /// Adds a material and returns its index.
     int add_material(Material m);
+    /// Adds a point light.
+    void add_point_light(const Vec3& position, Spectrum intensity);
+    /// Sets the environment's radiance (rays that escape); zero removes it.
+    void set_background(Spectrum radiance);
+    /// Adds the emitter for a shape of the given kind (sphere, plane or triangles: a quad or
+    /// mesh shares one) and returns the index to store in the shapes' `light`.
+    int add_emitter(ShapeKind kind, Spectrum radiance);
+    /// The environment light, or nullptr when escaping rays see black.
+    const EnvironmentLight* environment() const {
+        return environment_index >= 0 ? &std::get<EnvironmentLight>(lights[environment_index]) : nullptr;
+    }
+    /// The emitted radiance of the light at `hit`'s shape (zero if it has none).
+    SampledSpectrum emitted(const Hit& hit, const SampledWavelengths& lambda) const {
+        return hit.light >= 0 ? light_emitted(lights[hit.light], lambda) : SampledSpectrum(0.f);
+    }
+    /// Surface coordinates of a hit (see each shape's uv()).
+    void surface_uv(const Hit& hit, float& u, float& v) const;
     /// Checks every value (throws SceneError naming the culprit), analyses the effects and
     /// builds the acceleration data (the BVH when there are enough bounded shapes).
     void finalize();
@@ -103,6 +136,9 @@ struct Scene {
     }
 
 private:
+    /// Copies the emitting shapes' geometry into their lights, checks the lights, finds the
+    /// bounding sphere and builds the light choices.
+    void finalize_lights();
     static Hit with_prim(Hit hit, ShapeKind kind, std::ptrdiff_t index) {
         hit.prim = PrimId(kind, static_cast<std::uint32_t>(index));
         return hit;

@@ -37,7 +37,7 @@ public:
         camera(required(top, "camera", "the scene"));
         if (const JsonValue* image = top.find("image")) image_settings(*image);
         if (const JsonValue* bg = top.find("background"))
-            m_scene.background = spectrum(*bg, "background", SpectrumUse::Emission);
+            m_scene.set_background(spectrum(*bg, "background", SpectrumUse::Emission));
         if (const JsonValue* mats = top.find("materials")) materials(*mats);
         const JsonValue& shape_list = required(top, "shapes", "the scene");
         if (!shape_list.is_array()) wrong_type(shape_list, "shapes", "an array of shapes");
@@ -59,6 +59,8 @@ private:
     const RelativeFileReader& m_read_relative;
     Scene m_scene;
     std::map<std::string, int> m_material_index;
+    /// Emission of each material (zero if none), attached to every shape that uses it.
+    std::vector<Spectrum> m_material_emission;
 
     Spectrum spectrum(const JsonValue& v, const std::string& what, SpectrumUse use) const {
         return m_spectra.spectrum(v, what, use);
@@ -99,18 +101,38 @@ private:
         for (const auto& [name, def] : v.members()) {
             const std::string what = "material " + quote_text(name);
             object(def, what);
-            check_keys(def, what, {"kd", "ks", "kt", "ior", "emission"});
             Material m;
             m.name = name;
-            if (const JsonValue* x = def.find("kd")) m.kd = spectrum(*x, what + " kd", SpectrumUse::Reflectance);
-            if (const JsonValue* x = def.find("ks")) m.ks = spectrum(*x, what + " ks", SpectrumUse::Reflectance);
-            if (const JsonValue* x = def.find("kt")) m.kt = spectrum(*x, what + " kt", SpectrumUse::Reflectance);
-            if (const JsonValue* x = def.find("ior")) m.eta = spectrum(*x, what + " ior", SpectrumUse::Index);
+            std::string type = "lobes";
+            if (const JsonValue* t = def.find("type")) type = string(*t, what + " type");
+            if (type == "diffuse") {
+                check_keys(def, what + " of type \"diffuse\"", {"type", "kd", "emission"});
+                DiffuseBsdf d;
+                if (const JsonValue* x = def.find("kd")) d.kd = spectrum(*x, what + " kd", SpectrumUse::Reflectance);
+                m.bsdf = std::move(d);
+            } else if (type == "lobes") {
+                check_keys(def, what, {"type", "kd", "ks", "kt", "ior", "emission"});
+                LobeMixBsdf b;
+                if (const JsonValue* x = def.find("kd")) b.kd = spectrum(*x, what + " kd", SpectrumUse::Reflectance);
+                if (const JsonValue* x = def.find("ks")) b.ks = spectrum(*x, what + " ks", SpectrumUse::Reflectance);
+                if (const JsonValue* x = def.find("kt")) b.kt = spectrum(*x, what + " kt", SpectrumUse::Reflectance);
+                if (const JsonValue* x = def.find("ior")) b.eta = spectrum(*x, what + " ior", SpectrumUse::Index);
+                if (b.has_transmission() && !def.find("ior"))
+                    fail(def.pos(), what + " has kt but no \"ior\"; expected an index of refraction");
+                // Only a diffuse lobe: the diffuse type, which behaves identically and is
+                // sampled inline in the path loop.
+                if (!b.has_mirror() && !b.has_transmission()) m.bsdf = DiffuseBsdf{std::move(b.kd)};
+                else m.bsdf = std::move(b);
+            } else {
+                const std::vector<std::string> types = {"diffuse", "lobes"};
+                fail(def.find("type")->pos(), "unknown material type " + quote_text(type) + "." +
+                                                  suggestion(type, types) + " Expected one of: " + join(types));
+            }
+            Spectrum emission;
             if (const JsonValue* x = def.find("emission"))
-                m.emission = spectrum(*x, what + " emission", SpectrumUse::Emission);
-            if (m.has_transmission() && !def.find("ior"))
-                fail(def.pos(), what + " has kt but no \"ior\"; expected an index of refraction");
+                emission = spectrum(*x, what + " emission", SpectrumUse::Emission);
             add_material(std::move(m), def.pos());
+            m_material_emission.push_back(std::move(emission));
             m_material_index[name] = static_cast<int>(m_scene.materials.size()) - 1;
         }
     }
@@ -124,20 +146,38 @@ private:
         return m_scene.add_material(std::move(m));
     }
 
-    /// The material of a shape: "material": NAME, or "emission": SPECTRUM (a black emitter).
-    int shape_material(const JsonValue& v, const std::string& what) {
+    /// What a shape is made of: its material index, and the index of the emitter attached
+    /// to it (−1 if it does not emit).
+    struct Surface {
+        int material = -1;
+        int light = -1;
+    };
+
+    /// The surface of a shape of the given kind: "material": NAME (emitting if the material
+    /// has "emission"), or "emission": SPECTRUM (a black emitter).
+    Surface shape_surface(const JsonValue& v, const std::string& what, ShapeKind kind) {
         const JsonValue* name = v.find("material");
         const JsonValue* emission = v.find("emission");
         if (name && emission) fail(v.pos(), what + " has both \"material\" and \"emission\"; expected one of them");
+        Surface surface;
         if (emission) {
             Material m;
             m.name = what + " emission";
-            m.emission = spectrum(*emission, what + " emission", SpectrumUse::Emission);
-            return add_material(std::move(m), emission->pos());
+            m.bsdf = DiffuseBsdf{};  // reflects nothing
+            const Spectrum le = spectrum(*emission, what + " emission", SpectrumUse::Emission);
+            surface.material = add_material(std::move(m), emission->pos());
+            m_material_emission.emplace_back();
+            if (!le.is_zero()) surface.light = m_scene.add_emitter(kind, le);
+            return surface;
         }
         if (!name) fail(v.pos(), what + " has neither \"material\" nor \"emission\"; expected one of them");
         const std::string& n = string(*name, what + " material");
-        if (auto it = m_material_index.find(n); it != m_material_index.end()) return it->second;
+        if (auto it = m_material_index.find(n); it != m_material_index.end()) {
+            surface.material = it->second;
+            const Spectrum& le = m_material_emission[static_cast<std::size_t>(it->second)];
+            if (!le.is_zero()) surface.light = m_scene.add_emitter(kind, le);
+            return surface;
+        }
         std::vector<std::string> known;
         for (const auto& [k, i] : m_material_index) known.push_back(k);
         fail(name->pos(), "unknown material " + quote_text(n) + "." + suggestion(n, known) +
@@ -198,8 +238,10 @@ private:
         return tr;
     }
 
-    void add_triangle(const Vec3& a, const Vec3& b, const Vec3& c, int material, TextPos pos, const std::string& what) {
-        const Triangle t{a, b, c, material};
+    void add_triangle(const Vec3& a, const Vec3& b, const Vec3& c, Surface surface, TextPos pos,
+                      const std::string& what) {
+        Triangle t{a, b, c, surface.material};
+        t.light = surface.light;
         if (!is_finite(a) || !is_finite(b) || !is_finite(c))
             fail(pos, what + " has a vertex that is not finite after its transform; expected finite coordinates");
         if (t.is_degenerate()) fail(pos, what + " has zero area; expected three vertices that are not collinear");
@@ -217,7 +259,9 @@ private:
             s.center = point(required(v, "center", what), what + " center");
             s.radius = static_cast<float>(number_in(required(v, "radius", what), what + " radius", 0, kMaxSceneCoordinate, true));
             if (!(s.radius > 0.f)) fail(v.find("radius")->pos(), what + " radius rounds to 0 in single precision; expected a larger radius");
-            s.material = shape_material(v, what);
+            const Surface surface = shape_surface(v, what, ShapeKind::sphere);
+            s.material = surface.material;
+            s.light = surface.light;
             m_scene.spheres.push_back(s);
         } else if (type == "plane") {
             check_keys(v, what, {"type", "normal", "point", "material", "emission"});
@@ -228,7 +272,9 @@ private:
             Plane plane;
             plane.normal = n;
             plane.offset = static_cast<float>(double(n.x) * p.x + double(n.y) * p.y + double(n.z) * p.z);
-            plane.material = shape_material(v, what);
+            const Surface surface = shape_surface(v, what, ShapeKind::plane);
+            plane.material = surface.material;
+            plane.light = surface.light;
             m_scene.planes.push_back(plane);
         } else if (type == "quad") {
             check_keys(v, what, {"type", "origin", "edge1", "edge2", "transform", "material", "emission"});
@@ -236,7 +282,7 @@ private:
             const Vec3 e1 = direction(required(v, "edge1", what), what + " edge1");
             const Vec3 e2 = direction(required(v, "edge2", what), what + " edge2");
             const Transform tr = transform(v.find("transform"));
-            const int m = shape_material(v, what);
+            const Surface m = shape_surface(v, what, ShapeKind::triangle);
             const Vec3 a = tr.apply(o), b = tr.apply(o + e1), c = tr.apply(o + e1 + e2), d = tr.apply(o + e2);
             add_triangle(a, b, c, m, v.pos(), what);
             add_triangle(a, c, d, m, v.pos(), what);
@@ -247,13 +293,13 @@ private:
                 fail(vs.pos(), what + " vertices is not an array of 3 points; expected [[x, y, z], [x, y, z], [x, y, z]]");
             const Vec3 a = point(vs.items()[0], what + " vertex"), b = point(vs.items()[1], what + " vertex"),
                        c = point(vs.items()[2], what + " vertex");
-            add_triangle(a, b, c, shape_material(v, what), v.pos(), what);
+            add_triangle(a, b, c, shape_surface(v, what, ShapeKind::triangle), v.pos(), what);
         } else if (type == "mesh") {
             check_keys(v, what, {"type", "file", "transform", "material", "emission"});
             const JsonValue& fv = required(v, "file", what);
             const std::string& file = string(fv, what + " file");
             const Transform tr = transform(v.find("transform"));
-            const int m = shape_material(v, what);
+            const Surface m = shape_surface(v, what, ShapeKind::triangle);
             std::string contents, display, error;
             if (file.empty() || !m_read_relative(file, contents, display, error))
                 fail(fv.pos(), "cannot read mesh " + quote_text(file) + (error.empty() ? "" : ": " + error) +
@@ -268,7 +314,8 @@ private:
             }
             std::size_t added = 0;
             for (const auto& t : mesh.triangles) {
-                const Triangle tri{p[t[0]], p[t[1]], p[t[2]], m};
+                Triangle tri{p[t[0]], p[t[1]], p[t[2]], m.material};
+                tri.light = m.light;
                 if (tri.is_degenerate()) continue;  // zero-area faces are common in scanned meshes: never hit
                 if (!is_finite(tri.p0) || !is_finite(tri.p1) || !is_finite(tri.p2))
                     fail(fv.pos(), what + " has a vertex that is not finite after its transform; expected finite coordinates");
@@ -291,10 +338,9 @@ private:
             fail(v.find("type")->pos(), "unknown light type " + quote_text(type) + "." + suggestion(type, {"point"}) +
                                             " Expected \"point\" (area lights are shapes with \"emission\")");
         check_keys(v, "point light", {"type", "position", "intensity"});
-        PointLight l;
-        l.position = point(required(v, "position", "point light"), "point light position");
-        l.intensity = spectrum(required(v, "intensity", "point light"), "point light intensity", SpectrumUse::Emission);
-        m_scene.point_lights.push_back(std::move(l));
+        const Vec3 position = point(required(v, "position", "point light"), "point light position");
+        m_scene.add_point_light(position, spectrum(required(v, "intensity", "point light"), "point light intensity",
+                                                   SpectrumUse::Emission));
     }
 };
 

@@ -1,0 +1,52 @@
+// What the light types answer with (the contract is in light.h).
+#pragma once
+#include "core/vec3.h"
+#include "spectral/sampled.h"
+
+namespace spt {
+
+/// The shading point a light is sampled from.
+struct LightSampleContext {
+    Vec3 p, p_err;
+    Vec3 n;   ///< geometric normal (rays leave along it)
+    Vec3 ns;  ///< shading normal turned to the side light is gathered on (wo's side)
+    /// The BSDF there transmits through a non-delta lobe: light from both sides matters.
+    bool both_sides = false;
+};
+
+/// A direction towards a light, sampled from a reference point (next-event estimation).
+struct LightSample {
+    Vec3 wi;             ///< unit, from the reference point towards the light
+    SampledSpectrum L;   ///< radiance arriving along −wi (for a point light: I/r²)
+    float pdf = 0.f;     ///< solid-angle density of wi (1 for a delta light)
+    Vec3 p, p_err, n;    ///< the point on the light, its error bound and normal (zero: none)
+    bool infinite = false;  ///< the environment: nothing to reach, only the way out to check
+    bool delta = false;     ///< a point light (no MIS: no other strategy finds it)
+};
+
+/// A light subpath's origin (bidirectional integrators): the point, the first direction, the
+/// emitted quantity and the densities that produced them.
+struct LightOrigin {
+    Vec3 p, p_err;
+    Vec3 n;              ///< surface normal (zero for point lights and the environment)
+    Vec3 w;              ///< emission direction (unit)
+    SampledSpectrum Le;  ///< radiance (area, environment) or intensity (point) along w
+    /// Area density of the point, light choice included (1·choice if delta). Environment:
+    /// the planar density 1/(πR²) of the disk point, without the choice.
+    float pdf_pos = 0;
+    /// Solid-angle density of w. Environment: 1/(4π) times the choice probability.
+    float pdf_dir = 0;
+    bool delta_position = false;
+    bool environment = false;  ///< the constant environment: p is on the disk, w the direction
+    bool blocked = false;      ///< environment: an infinite plane cuts the ray upstream of p
+};
+
+/// Mean of a spectrum over 380–780 nm (41 samples): the "power" lights are chosen by.
+template <typename SpectrumT>
+float mean_over_visible(const SpectrumT& s) {
+    double sum = 0;
+    for (int i = 0; i <= 40; ++i) sum += s.eval(380.f + 10.f * static_cast<float>(i));
+    return static_cast<float>(sum / 41.0);
+}
+
+}  // namespace spt

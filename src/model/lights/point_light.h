@@ -1,0 +1,45 @@
+// Isotropic point light: radiant intensity I(λ) (W·sr⁻¹·nm⁻¹ up to scale); irradiance at
+// distance r on a surface tilted by θ is I·cos θ / r².
+#pragma once
+#include <optional>
+
+#include "core/sampling.h"
+#include "model/lights/light_sample.h"
+#include "spectral/spectrum.h"
+
+namespace spt {
+
+struct PointLight {
+    Vec3 position;
+    Spectrum intensity;
+
+    float power() const { return 4.f * kPi * mean_over_visible(intensity); }
+
+    /// A delta light: the direction is certain (pdf 1) and L = I/r².
+    std::optional<LightSample> sample_li(const LightSampleContext& ctx, const SampledWavelengths& lambda) const {
+        const Vec3 to_light = position - ctx.p;
+        const float dist2 = length_squared(to_light);
+        if (!(dist2 > 0.f)) return std::nullopt;  // on the surface: no defined direction
+        LightSample ls;
+        ls.wi = to_light / std::sqrt(dist2);
+        ls.L = intensity.sample(lambda) / dist2;
+        ls.pdf = 1.f;
+        ls.p = position;
+        ls.delta = true;
+        return ls;
+    }
+
+    /// Origin of a light subpath: the position, a direction uniform over the sphere.
+    LightOrigin sample_le(const SampledWavelengths& lambda, float u1, float u2) const {
+        LightOrigin o;
+        o.p = position;
+        o.w = sample_uniform_sphere(u1, u2);
+        o.Le = intensity.sample(lambda);
+        o.pdf_pos = 1.f;
+        o.pdf_dir = 1.f / (4.f * kPi);
+        o.delta_position = true;
+        return o;
+    }
+};
+
+}  // namespace spt

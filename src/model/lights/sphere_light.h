@@ -1,0 +1,96 @@
+// An emitting sphere. Next-event estimation samples the cone of directions it subtends
+// (uniform in solid angle: every sampled direction hits it, unlike area sampling, whose
+// far-side points are wasted and whose 1/cos peaks at the silhouette); from inside it samples
+// the area. Emission (light subpaths) starts uniformly over the area. The geometry is a copy
+// of the scene's sphere (the light answers without the scene).
+#pragma once
+#include <optional>
+
+#include "geometry/sphere.h"
+#include "model/lights/area_emission.h"
+#include "spectral/spectrum.h"
+
+namespace spt {
+
+struct SphereLight {
+    Sphere sphere;
+    Spectrum Le;  ///< radiance, both sides
+
+    float area() const { return 4.f * kPi * sphere.radius * sphere.radius; }
+    float power() const { return 2.f * kPi * area() * mean_over_visible(Le); }
+
+    /// sin²θmax of the cone seen from p, or a negative value when p is inside (or on) the sphere.
+    float sin2_theta_max(const Vec3& p) const {
+        const float dist2 = length_squared(sphere.center - p);
+        const float r2 = sphere.radius * sphere.radius;
+        return dist2 > r2 ? r2 / dist2 : -1.f;
+    }
+
+    /// 1 − cos θmax, with its small-angle limit sin²/2 where the difference would cancel.
+    static float one_minus_cos(float sin2_max) {
+        if (sin2_max < 1e-3f) return 0.5f * sin2_max + 0.125f * sin2_max * sin2_max;
+        return 1.f - std::sqrt(1.f - sin2_max);
+    }
+
+    std::optional<LightSample> sample_li(const LightSampleContext& ctx, const SampledWavelengths& lambda, float u1,
+                                         float u2) const {
+        const float sin2_max = sin2_theta_max(ctx.p);
+        LightSample ls;
+        if (sin2_max < 0.f) {
+            // Inside: a point uniform over the area, its density turned into solid angle.
+            sample_point(u1, u2, ls.p, ls.p_err, ls.n);
+            ls.pdf = area_to_solid_angle(1.f / area(), ctx.p, ls.p, ls.n);
+        } else {
+            // Outside: cos θ uniform in [cos θmax, 1] about the axis towards the centre, then the
+            // point of the sphere that direction reaches first, found by the angle α at the
+            // centre (pbrt-v4's Sphere::Sample, after Shirley): no ray-sphere test is needed.
+            const float omc_max = one_minus_cos(sin2_max);
+            const float omc = u1 * omc_max;                      // 1 − cos θ
+            const float sin2 = omc * (2.f - omc);                // sin²θ
+            const float cos_t = 1.f - omc;
+            const float sin_max = std::sqrt(sin2_max);
+            const float cos_alpha =
+                sin2 / sin_max + cos_t * safe_sqrt(1.f - sin2 / sin2_max);
+            const float sin_alpha = safe_sqrt(1.f - cos_alpha * cos_alpha);
+            const float phi = 2.f * kPi * u2;
+            const Vec3 axis = normalize(ctx.p - sphere.center);  // from the centre to the viewer
+            const Frame f(axis);
+            ls.n = f.to_world({sin_alpha * std::cos(phi), sin_alpha * std::sin(phi), cos_alpha});
+            ls.p = sphere.center + ls.n * sphere.radius;
+            ls.p_err = (abs(sphere.center) + Vec3(sphere.radius, sphere.radius, sphere.radius)) * gamma_bound(6);
+            ls.pdf = 1.f / (2.f * kPi * omc_max);
+        }
+        const Vec3 d = ls.p - ctx.p;
+        const float dist = length(d);
+        if (!(dist > 0.f) || !(ls.pdf > 0.f) || !std::isfinite(ls.pdf)) return std::nullopt;
+        ls.wi = d / dist;
+        ls.L = Le.sample(lambda);
+        return ls;
+    }
+
+    /// Density of sample_li producing the direction towards `p_light` (a point of the sphere
+    /// found along it, normal n_light).
+    float pdf_li(const LightSampleContext& ctx, const Vec3& p_light, const Vec3& n_light) const {
+        const float sin2_max = sin2_theta_max(ctx.p);
+        if (sin2_max < 0.f) return area_to_solid_angle(1.f / area(), ctx.p, p_light, n_light);
+        return 1.f / (2.f * kPi * one_minus_cos(sin2_max));
+    }
+
+    /// A point uniform over the surface.
+    void sample_point(float u1, float u2, Vec3& p, Vec3& p_err, Vec3& n) const {
+        n = sample_uniform_sphere(u1, u2);
+        p = sphere.center + n * sphere.radius;
+        p_err = (abs(sphere.center) + Vec3(sphere.radius, sphere.radius, sphere.radius)) * gamma_bound(6);
+    }
+
+    std::optional<LightOrigin> sample_le(const SampledWavelengths& lambda, float u1, float u2, float u_side,
+                                         float u3, float u4) const {
+        LightOrigin o;
+        sample_point(u1, u2, o.p, o.p_err, o.n);
+        o.pdf_pos = 1.f / area();
+        return emit_two_sided(o, Le.sample(lambda), u_side, u3, u4);
+    }
+    float pdf_le_pos() const { return 1.f / area(); }
+};
+
+}  // namespace spt

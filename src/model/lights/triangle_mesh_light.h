@@ -1,0 +1,80 @@
+// An emitting set of triangles: one triangle, the two of a quad, or a whole mesh, as one
+// light. Sampled by area (a triangle by its area, then a uniform point: the square-root warp
+// of the barycentrics), for next-event estimation and emission alike; the area density is
+// converted to solid angle at the reference point. (Spherical-triangle sampling would remove
+// the 1/cos of grazing views; area sampling is what this light states and tests.)
+#pragma once
+#include <algorithm>
+#include <optional>
+#include <vector>
+
+#include "geometry/triangle.h"
+#include "model/lights/area_emission.h"
+#include "spectral/spectrum.h"
+
+namespace spt {
+
+struct TriangleMeshLight {
+    std::vector<Triangle> triangles;  ///< copies of the scene's triangles of this shape
+    std::vector<float> cdf;           ///< cumulative area fractions (last = 1)
+    float total_area = 0.f;
+    Spectrum Le;  ///< radiance, both sides
+
+    static float triangle_area(const Triangle& t) { return 0.5f * length(cross(t.p1 - t.p0, t.p2 - t.p0)); }
+
+    /// Adds a triangle (before finish()).
+    void add(const Triangle& t) { triangles.push_back(t); }
+    /// Builds the area distribution.
+    void finish() {
+        double sum = 0;
+        cdf.clear();
+        for (const Triangle& t : triangles) cdf.push_back(static_cast<float>(sum += triangle_area(t)));
+        total_area = static_cast<float>(sum);
+        for (float& c : cdf) c = static_cast<float>(c / sum);
+        if (!cdf.empty()) cdf.back() = 1.f;
+    }
+
+    float power() const { return 2.f * kPi * total_area * mean_over_visible(Le); }
+
+    /// A point uniform over the whole area (u1 picks the triangle and is reused inside it).
+    void sample_point(float u1, float u2, Vec3& p, Vec3& p_err, Vec3& n) const {
+        const auto it = std::upper_bound(cdf.begin(), cdf.end(), u1);
+        const std::size_t k = std::min<std::size_t>(static_cast<std::size_t>(it - cdf.begin()), cdf.size() - 1);
+        const float lo = k > 0 ? cdf[k - 1] : 0.f;
+        const float u = std::clamp((u1 - lo) / std::max(cdf[k] - lo, 1e-30f), 0.f, 0x1.fffffep-1f);
+        const Triangle& t = triangles[k];
+        const float su = std::sqrt(u);
+        const float b0 = 1.f - su, b1 = u2 * su, b2 = 1.f - b0 - b1;
+        p = t.p0 * b0 + t.p1 * b1 + t.p2 * b2;
+        p_err = (abs(t.p0 * b0) + abs(t.p1 * b1) + abs(t.p2 * b2)) * gamma_bound(7) + rounded_point_error(p);
+        n = normalize(cross(t.p1 - t.p0, t.p2 - t.p0));
+    }
+
+    std::optional<LightSample> sample_li(const LightSampleContext& ctx, const SampledWavelengths& lambda, float u1,
+                                         float u2) const {
+        LightSample ls;
+        sample_point(u1, u2, ls.p, ls.p_err, ls.n);
+        ls.pdf = area_to_solid_angle(1.f / total_area, ctx.p, ls.p, ls.n);
+        const Vec3 d = ls.p - ctx.p;
+        const float dist = length(d);
+        if (!(dist > 0.f) || !(ls.pdf > 0.f) || !std::isfinite(ls.pdf)) return std::nullopt;
+        ls.wi = d / dist;
+        ls.L = Le.sample(lambda);
+        return ls;
+    }
+
+    float pdf_li(const LightSampleContext& ctx, const Vec3& p_light, const Vec3& n_light) const {
+        return area_to_solid_angle(1.f / total_area, ctx.p, p_light, n_light);
+    }
+
+    std::optional<LightOrigin> sample_le(const SampledWavelengths& lambda, float u1, float u2, float u_side,
+                                         float u3, float u4) const {
+        LightOrigin o;
+        sample_point(u1, u2, o.p, o.p_err, o.n);
+        o.pdf_pos = 1.f / total_area;
+        return emit_two_sided(o, Le.sample(lambda), u_side, u3, u4);
+    }
+    float pdf_le_pos() const { return 1.f / total_area; }
+};
+
+}  // namespace spt
