@@ -46,18 +46,28 @@ inline LightSampleContext light_context(const Hit& hit, const Material& mat, con
 
 /// Direct light from one of the other lights, chosen by power, through one shadow ray,
 /// weighted against BSDF sampling by the power heuristic (Veach 1997, §9.2).
-[[gnu::noinline]] SampledSpectrum sample_area_light(const Scene& scene, const Material& mat, const Hit& hit,
+[[gnu::noinline]] SampledSpectrum sample_area_light(const Scene& scene, const LightDistribution& choices,
+                                                    const Material& mat, const Hit& hit,
                                                     const LightSampleContext& ctx, const Vec3& wo,
                                                     const SampledWavelengths& lambda, float u_light, float u1,
                                                     float u2, bool mis, PathStats& stats) {
     float choice = 0.f;
-    const int index = scene.area_light_choice.sample(u_light, choice);
+    const int index = choices.sample(u_light, choice);
     const std::optional<LightSample> ls = light_sample_li(scene.lights[index], ctx, lambda, u1, u2);
     if (!ls) return SampledSpectrum(0.f);
     const SampledSpectrum f_cos = bsdf_eval(mat.bsdf, wo, ls->wi, hit.ns, lambda, TransportMode::radiance);
     if (f_cos.is_zero()) return SampledSpectrum(0.f);
     ++stats.rays;
-    const Ray shadow = ls->infinite ? spawn_ray(hit, ls->wi) : spawn_ray_between(hit.p, hit.p_err, hit.n, ls->p, ls->p_err, ls->n);
+    Ray shadow;
+    if (ls->infinite) {
+        shadow = spawn_ray(hit, ls->wi);
+    } else if (ls->plane_distance > 0.f) {
+        // Short of the plane by a relative margin far above the origin's offset.
+        shadow = spawn_ray(hit, ls->wi);
+        shadow.t_max = ls->plane_distance * (1.f - 1e-4f);
+    } else {
+        shadow = spawn_ray_between(hit.p, hit.p_err, hit.n, ls->p, ls->p_err, ls->n);
+    }
     if (scene.occluded(shadow)) return SampledSpectrum(0.f);
     const float pdf_light = choice * ls->pdf;
     if (!mis) return f_cos * ls->L / pdf_light;
@@ -67,9 +77,10 @@ inline LightSampleContext light_context(const Hit& hit, const Material& mat, con
 
 /// MIS weight of emission that BSDF sampling found along `wi` from `prev` (light `index`,
 /// reached at `hit`, or escaped when hit is null) against sampling that light directly.
-[[gnu::noinline]] float emission_weight(const Scene& scene, int index, const LightSampleContext& prev,
-                                        float pdf_bsdf, const Vec3& wi, const Hit* hit) {
-    const float choice = scene.area_light_choice.probability(index);
+[[gnu::noinline]] float emission_weight(const Scene& scene, const LightDistribution& choices, int index,
+                                        const LightSampleContext& prev, float pdf_bsdf, const Vec3& wi,
+                                        const Hit* hit) {
+    const float choice = choices.probability(index);
     if (choice == 0.f) return 1.f;  // a light that next-event estimation never samples
     return power_heuristic(pdf_bsdf, choice * light_pdf_li(scene.lights[index], prev, wi, hit));
 }
@@ -89,7 +100,9 @@ inline LightSampleContext light_context(const Hit& hit, const Material& mat, con
     const bool point_nee = scene.effects.point_lights;
     // Lights other than points are sampled only when the scene has them: scenes without
     // them draw no random numbers for it and take the loop of before.
-    const bool area_nee = settings.light_sampling != LightSampling::bsdf && !scene.area_light_choice.empty();
+    const LightDistribution& choices =
+        settings.sample_planes ? scene.area_light_choice_with_planes : scene.area_light_choice;
+    const bool area_nee = settings.light_sampling != LightSampling::bsdf && !choices.empty();
     // Emission found by BSDF sampling where a light could also have been sampled: weighted
     // by MIS after a non-delta bounce (the state below); from the camera or after a delta
     // bounce no light sample could have found it (weight 1).
@@ -102,7 +115,7 @@ inline LightSampleContext light_context(const Hit& hit, const Material& mat, con
         const std::optional<Hit> hit = scene.intersect(ray);
         if (!hit) {
             if (const EnvironmentLight* env = scene.environment()) {
-                const float w = mis_emission ? emission_weight(scene, scene.environment_index, prev_ctx, prev_pdf, ray.d, nullptr) : 1.f;
+                const float w = mis_emission ? emission_weight(scene, choices, scene.environment_index, prev_ctx, prev_pdf, ray.d, nullptr) : 1.f;
                 L += beta * env->Le.sample(lambda) * w;
             }
             break;
@@ -112,7 +125,7 @@ inline LightSampleContext light_context(const Hit& hit, const Material& mat, con
 
         // ---- Emission found by the path ----
         if (hit->light >= 0) {
-            const float w = mis_emission ? emission_weight(scene, hit->light, prev_ctx, prev_pdf, ray.d, &*hit) : 1.f;
+            const float w = mis_emission ? emission_weight(scene, choices, hit->light, prev_ctx, prev_pdf, ray.d, &*hit) : 1.f;
             L += beta * scene.emitted(*hit, lambda) * w;
         }
         if (!mat.reflects() || depth == settings.max_depth) break;
@@ -125,7 +138,7 @@ inline LightSampleContext light_context(const Hit& hit, const Material& mat, con
         if (area_nee && non_delta) {
             ctx = light_context(*hit, mat, wo);
             const float ul = rng.uniform(), ul1 = rng.uniform(), ul2 = rng.uniform();
-            L += beta * sample_area_light(scene, mat, *hit, ctx, wo, lambda, ul, ul1, ul2,
+            L += beta * sample_area_light(scene, choices, mat, *hit, ctx, wo, lambda, ul, ul1, ul2,
                                           settings.light_sampling == LightSampling::mis, stats);
         }
 

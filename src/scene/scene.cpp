@@ -284,6 +284,9 @@ void Scene::finalize_lights() {
         }
         area_power[i] = light_power(light);
     }
+    area_light_choice_with_planes.build(area_power);
+    for (std::size_t i = 0; i < lights.size(); ++i)
+        if (std::holds_alternative<PlaneLight>(lights[i])) area_power[i] = 0.f;
     area_light_choice.build(area_power);
 }
 

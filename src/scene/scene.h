@@ -50,11 +50,13 @@ struct Scene {
     Effects effects;  ///< filled by finalize()
 
     /// Derived by finalize(): the point lights (each sampled at every vertex: no random
-    /// numbers, no MIS), the other lights chosen by power for next-event estimation, the
+    /// numbers, no MIS), the other lights chosen by power for next-event estimation (without
+    /// and with the emitting infinite planes, see IntegratorSettings::sample_planes), the
     /// environment's index (−1: black) and the bounding sphere of the finite shapes, the
     /// camera and the point lights.
     std::vector<int> point_light_indices;
     LightDistribution area_light_choice;
+    LightDistribution area_light_choice_with_planes;
     int environment_index = -1;
     Vec3 bounds_center;
     float bounds_radius = 1.f;

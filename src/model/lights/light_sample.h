@@ -21,6 +21,9 @@ struct LightSample {
     float pdf = 0.f;     ///< solid-angle density of wi (1 for a delta light)
     Vec3 p, p_err, n;    ///< the point on the light, its error bound and normal (zero: none)
     bool infinite = false;  ///< the environment: nothing to reach, only the way out to check
+    /// An infinite plane: the shadow ray leaves along wi and must be clear for this distance
+    /// (p is not needed); 0 for the other lights.
+    float plane_distance = 0.f;
     bool delta = false;     ///< a point light (no MIS: no other strategy finds it)
 };
 

@@ -23,29 +23,30 @@ struct PlaneLight {
 
     float power() const { return kPi * kPi * scene_radius * scene_radius * mean_over_visible(Le); }
 
+    /// Signed distance of p from the plane along its normal (double: p may lie far away).
+    double side(const Vec3& p) const {
+        return double(plane.normal.x) * p.x + double(plane.normal.y) * p.y + double(plane.normal.z) * p.z -
+               plane.offset;
+    }
     /// Unit normal of the plane turned towards it from p; zero when p lies on the plane.
     Vec3 towards(const Vec3& p) const {
-        const double side = double(plane.normal.x) * p.x + double(plane.normal.y) * p.y +
-                            double(plane.normal.z) * p.z - plane.offset;
-        if (side == 0.0) return {};
-        return side > 0.0 ? -plane.normal : plane.normal;
+        const double s = side(p);
+        if (s == 0.0) return {};
+        return s > 0.0 ? -plane.normal : plane.normal;
     }
 
     std::optional<LightSample> sample_li(const LightSampleContext& ctx, const SampledWavelengths& lambda, float u1,
                                          float u2) const {
-        const Vec3 axis = towards(ctx.p);
-        if (axis == Vec3{}) return std::nullopt;
+        const double s = side(ctx.p);
+        if (s == 0.0) return std::nullopt;
+        const Vec3 axis = s > 0.0 ? -plane.normal : plane.normal;
         const Vec3 local = sample_cosine_hemisphere(u1, u2);
         if (!(local.z > 0.f)) return std::nullopt;
         LightSample ls;
         ls.wi = Frame(axis).to_world(local);
-        const double t = plane.intersect_t({ctx.p, ls.wi, kInfinity});
-        if (!(t < kInfinity)) return std::nullopt;  // rounding at the horizon
-        const Hit h = plane.make_hit({ctx.p, ls.wi, kInfinity}, t);
-        if (!is_finite(h.p)) return std::nullopt;
-        ls.p = h.p;
-        ls.p_err = h.p_err;
-        ls.n = plane.normal;
+        // The distance along wi: |side| / cos θ (the shadow ray needs no point on the plane).
+        ls.plane_distance = static_cast<float>(std::fabs(s) / local.z);
+        if (!std::isfinite(ls.plane_distance)) return std::nullopt;
         ls.pdf = local.z * kInvPi;
         ls.L = Le.sample(lambda);
         return ls;

@@ -34,9 +34,11 @@ struct SphereLight {
 
     std::optional<LightSample> sample_li(const LightSampleContext& ctx, const SampledWavelengths& lambda, float u1,
                                          float u2) const {
-        const float sin2_max = sin2_theta_max(ctx.p);
+        const Vec3 from_center = ctx.p - sphere.center;
+        const float dist2 = length_squared(from_center);
+        const float r2 = sphere.radius * sphere.radius;
         LightSample ls;
-        if (sin2_max < 0.f) {
+        if (!(dist2 > r2)) {
             // Inside: a point uniform over the area, its density turned into solid angle.
             sample_point(u1, u2, ls.p, ls.p_err, ls.n);
             ls.pdf = area_to_solid_angle(1.f / area(), ctx.p, ls.p, ls.n);
@@ -44,17 +46,18 @@ struct SphereLight {
             // Outside: cos θ uniform in [cos θmax, 1] about the axis towards the centre, then the
             // point of the sphere that direction reaches first, found by the angle α at the
             // centre (pbrt-v4's Sphere::Sample, after Shirley): no ray-sphere test is needed.
+            // Written with few square roots and divisions: they form one dependency chain.
+            const float inv_dist = 1.f / std::sqrt(dist2);
+            const float sin2_max = r2 / dist2;
             const float omc_max = one_minus_cos(sin2_max);
-            const float omc = u1 * omc_max;                      // 1 − cos θ
-            const float sin2 = omc * (2.f - omc);                // sin²θ
-            const float cos_t = 1.f - omc;
-            const float sin_max = std::sqrt(sin2_max);
-            const float cos_alpha =
-                sin2 / sin_max + cos_t * safe_sqrt(1.f - sin2 / sin2_max);
+            const float omc = u1 * omc_max;        // 1 − cos θ
+            const float sin2 = omc * (2.f - omc);  // sin²θ
+            const float ratio = sin2 / sin2_max;   // sin²θ / sin²θmax, in [0, 1]
+            // cos α = sin²θ/sin θmax + cos θ·√(1 − sin²θ/sin²θmax), with 1/sin θmax = d/r.
+            const float cos_alpha = ratio * std::sqrt(sin2_max) + (1.f - omc) * safe_sqrt(1.f - ratio);
             const float sin_alpha = safe_sqrt(1.f - cos_alpha * cos_alpha);
             const float phi = 2.f * kPi * u2;
-            const Vec3 axis = normalize(ctx.p - sphere.center);  // from the centre to the viewer
-            const Frame f(axis);
+            const Frame f(from_center * inv_dist);  // axis from the centre to the viewer
             ls.n = f.to_world({sin_alpha * std::cos(phi), sin_alpha * std::sin(phi), cos_alpha});
             ls.p = sphere.center + ls.n * sphere.radius;
             ls.p_err = (abs(sphere.center) + Vec3(sphere.radius, sphere.radius, sphere.radius)) * gamma_bound(6);
