@@ -1,6 +1,8 @@
 // The two canonical Cornell boxes of DESIGN.md written in C++, exactly as the program defined
 // them before scenes became files: the reference that scenes/cornell*.json must reproduce
-// bit for bit (test_scene_loader.cpp).
+// bit for bit (test_scene_loader.cpp). Materials are written as the loader builds them: a
+// material with only kd is a DiffuseBsdf, the others a LobeMixBsdf; the ceiling's emission is
+// an emitter attached to the plane, whose material reflects nothing.
 #pragma once
 #include <optional>
 #include <string>
@@ -14,7 +16,7 @@ namespace cornell_detail {
 inline Material diffuse(std::string name, const Spectrum& kd) {
     Material m;
     m.name = std::move(name);
-    m.kd = kd;
+    m.bsdf = DiffuseBsdf{kd};
     return m;
 }
 
@@ -34,19 +36,24 @@ inline Scene make_cornell_common(std::string name, SpectralResolution res, bool 
     const int m_gray = scene.add_material(diffuse("gray", gray));
 
     int m_ceiling = m_gray;
+    int ceiling_emitter = -1;
     if (ceiling_light) {
-        Material light;
-        light.name = "light";
-        light.emission = Spectrum(Src::blackbody(6500, 4.0, 560), res);
-        m_ceiling = scene.add_material(light);
+        m_ceiling = scene.add_material(diffuse("light", Spectrum()));  // reflects nothing
+        ceiling_emitter = scene.add_emitter(ShapeKind::plane, Spectrum(Src::blackbody(6500, 4.0, 560), res));
     }
-    Material plastic = diffuse("blue plastic", blue);
-    plastic.ks = Spectrum(Src::constant(0.15), res);
+    Material plastic;
+    plastic.name = "blue plastic";
+    LobeMixBsdf plastic_lobes;
+    plastic_lobes.kd = blue;
+    plastic_lobes.ks = Spectrum(Src::constant(0.15), res);
+    plastic.bsdf = plastic_lobes;
     const int m_plastic = scene.add_material(plastic);
     Material glass;
     glass.name = "glass";
-    glass.kt = Spectrum(Src::constant(1.0), res);
-    glass.eta = Spectrum(Src::constant(1.5), res);
+    LobeMixBsdf glass_lobes;
+    glass_lobes.kt = Spectrum(Src::constant(1.0), res);
+    glass_lobes.eta = Spectrum(Src::constant(1.5), res);
+    glass.bsdf = glass_lobes;
     const int m_glass = scene.add_material(glass);
 
     // Planes as dot(n, p) = offset with n facing into the box.
@@ -55,7 +62,7 @@ inline Scene make_cornell_common(std::string name, SpectralResolution res, bool 
         {{-1, 0, 0}, -1.f, m_green},    // right wall, x = +1
         {{0, 1, 0}, -1.f, m_gray},      // floor, y = -1
         {{0, 0, 1}, -1.f, m_gray},      // back wall, z = -1
-        {{0, -1, 0}, -1.f, m_ceiling},  // ceiling, y = +1
+        {{0, -1, 0}, -1.f, m_ceiling, ceiling_emitter},  // ceiling, y = +1 (emitting in "cornell")
     };
     scene.spheres = {
         {{-0.45f, -0.6f, -0.3f}, 0.4f, m_plastic},
@@ -73,8 +80,7 @@ inline std::optional<Scene> make_cornell_reference(const std::string& name, Spec
         scene = make_cornell_common(name, res, true);
     } else if (name == "cornell-point") {
         scene = make_cornell_common(name, res, false);
-        scene->point_lights.push_back(
-            {{0, 0.5f, 0}, Spectrum(SpectrumSource::blackbody(6500, 3.0, 560), res)});
+        scene->add_point_light({0, 0.5f, 0}, Spectrum(SpectrumSource::blackbody(6500, 3.0, 560), res));
     }
     if (scene) scene->finalize();
     return scene;

@@ -34,7 +34,7 @@ RenderSettings bdpt_settings(int width, int height, int spp, std::uint64_t seed 
 
 TEST(Bdpt, FurnacePointLightAtCentreGivesOne) {
     Scene scene = closed_sphere_scene(diffuse_material(0.5));
-    scene.point_lights.push_back({{0, 0, 0}, constant_spectrum(std::numbers::pi)});
+    scene.add_point_light({0, 0, 0}, constant_spectrum(std::numbers::pi));
     scene.finalize();
     const auto film = render_film(scene, bdpt_settings(12, 12, 256, 11));
     EXPECT_EQ(film->rejected_samples(), 0u);
@@ -46,7 +46,7 @@ TEST(Bdpt, FurnacePointLightAtCentreGivesOne) {
 }
 
 TEST(Bdpt, FurnaceEmissiveAlbedo08GivesFive) {
-    Scene scene = closed_sphere_scene(diffuse_material(0.8, 1.0));
+    Scene scene = closed_sphere_scene(diffuse_material(0.8), 1.0);
     scene.finalize();
     const auto film = render_film(scene, bdpt_settings(12, 12, 256, 13));
     EXPECT_EQ(film->rejected_samples(), 0u);
@@ -60,7 +60,7 @@ TEST(Bdpt, FurnaceEmissiveAlbedo08GivesFive) {
 /// A single scattering event: the furnace with the point light gives exactly the first term 0.5.
 TEST(Bdpt, MaxDepthOneGivesSingleScattering) {
     Scene scene = closed_sphere_scene(diffuse_material(0.5));
-    scene.point_lights.push_back({{0, 0, 0}, constant_spectrum(std::numbers::pi)});
+    scene.add_point_light({0, 0, 0}, constant_spectrum(std::numbers::pi));
     scene.finalize();
     RenderSettings rs = bdpt_settings(8, 8, 64, 5);
     rs.integrator.max_depth = 1;
@@ -94,11 +94,9 @@ TEST(Bdpt, AgreesWithPathTracerOnCornell) {
 TEST(Bdpt, AgreesWithPathTracerOnDiffuseCornellPoint) {
     Scene scene = builtin("cornell-point");
     for (Material& m : scene.materials) {
-        if (m.has_transmission()) {
-            m.kt = constant_spectrum(0.0);
-            m.kd = constant_spectrum(0.5);
-        }
-        m.ks = constant_spectrum(0.0);
+        const LobeMixBsdf* lobes = std::get_if<LobeMixBsdf>(&m.bsdf);
+        if (lobes && lobes->has_transmission()) m.bsdf = DiffuseBsdf{constant_spectrum(0.5)};
+        else m.bsdf = DiffuseBsdf{test::kd_of(m)};  // drops the mirror coat (ks)
     }
     scene.finalize();
     const auto path = render_film(scene, small_settings(24, 24, 128, 5));

@@ -162,7 +162,7 @@ TEST(BdptEnvironment, ConvexDiffuseSphereIsItsAlbedo) {
     scene.name = "furnace sphere";
     scene.camera = {{0, 0, 4}, {0, 0, 0}, {0, 1, 0}, 40.f};
     scene.spheres.push_back({{0, 0, 0}, 1.f, scene.add_material(diffuse_material(0.5))});
-    scene.background = constant_spectrum(1.0);
+    scene.set_background(constant_spectrum(1.0));
     scene.finalize();
     const RenderSettings rs = bdpt_settings(24, 24, 128, 31);
     const FurnaceResult r = expect_furnace(scene, rs, 0.5, {0, 0, 0}, 1.f);
@@ -183,7 +183,7 @@ TEST(BdptEnvironment, OffCentreFurnace) {
     scene.camera = {{4, 1, 3}, {1.5f, -0.5f, 0.2f}, {0, 1, 0}, 35.f};
     const Vec3 centre(1.5f, -0.5f, 0.2f);
     scene.spheres.push_back({centre, 0.7f, scene.add_material(diffuse_material(0.8))});
-    scene.background = constant_spectrum(1.0);
+    scene.set_background(constant_spectrum(1.0));
     scene.finalize();
     const FurnaceResult r = expect_furnace(scene, bdpt_settings(20, 20, 128, 32), 0.8, centre, 0.7f);
     EXPECT_GE(r.on, 40);
@@ -204,7 +204,7 @@ TEST(BdptEnvironment, FloatingSphereOverBlackFloorSeesOnlyTheSky) {
     const double a = 0.8;
     scene.planes.push_back({{0, 1, 0}, 0.f, scene.add_material(diffuse_material(0.0))});
     scene.spheres.push_back({centre, 1.f, scene.add_material(diffuse_material(a))});
-    scene.background = constant_spectrum(1.0);
+    scene.set_background(constant_spectrum(1.0));
     scene.finalize();
     const RenderSettings rs = bdpt_settings(24, 24, 512, 33);
     const auto film = render_film(scene, rs);
@@ -266,7 +266,7 @@ TEST(BdptEnvironment, AgreesWithPathTracerOnSpheresOverAnInfinitePlane) {
     scene.planes.push_back({{0, 1, 0}, 0.f, floor});
     scene.spheres.push_back({{-0.6f, 1.f, 0}, 0.5f, white});
     scene.spheres.push_back({{0.6f, 0.5f, 0}, 0.5f, scene.add_material(glass_material(1.5))});
-    scene.background = constant_spectrum(1.0);
+    scene.set_background(constant_spectrum(1.0));
     scene.finalize();
     constexpr int kSize = 32;
     const auto path = render_film(scene, small_settings(kSize, kSize, 256, 41));
@@ -447,11 +447,13 @@ TEST(BdptDispersion, PointLightInsideGlassInFurnaceGivesOne) {
     scene.camera = {{0.3f, -0.2f, 0.5f}, {0, 0, 0}, {0, 1, 0}, 70.f};
     Material glass;
     glass.name = "SF11";
-    glass.kt = constant_spectrum(1.0);
-    glass.eta = Spectrum(sf11->ior, SpectralResolution{});
+    LobeMixBsdf sf11_bsdf;
+    sf11_bsdf.kt = constant_spectrum(1.0);
+    sf11_bsdf.eta = Spectrum(sf11->ior, SpectralResolution{});
+    glass.bsdf = sf11_bsdf;
     const float r = 0.25f;
     scene.spheres.push_back({{0, 0, 0}, r, scene.add_material(glass)});
-    scene.point_lights.push_back({{0, 0, 0}, constant_spectrum(std::numbers::pi)});
+    scene.add_point_light({0, 0, 0}, constant_spectrum(std::numbers::pi));
     scene.finalize();
     ASSERT_TRUE(scene.effects.dispersion);
     const RenderSettings rs = bdpt_settings(16, 16, 1024, 64);
@@ -482,11 +484,12 @@ TEST(BdptDispersion, PointLightInsideGlassInFurnaceGivesOne) {
                pixels, m.mean, m.standard_error, max_z));
 }
 
-/// An SF11 sphere (strong dispersion) on a diffuse floor, lit by an emitting sphere the path
-/// tracer finds by hitting it, black background. The light's caustic through the glass is
-/// carried by light subpaths refracted twice (companions terminated on the light side) and
-/// by camera paths refracted on their way to the light (terminated on the camera side);
-/// bdpt must agree with the path tracer per pixel, over the caustic and over the image.
+/// An SF11 sphere (strong dispersion) on a diffuse floor, lit by an emitting sphere, black
+/// background. The light's caustic through the glass is carried by light subpaths refracted
+/// twice (companions terminated on the light side) and by camera paths refracted on their way
+/// to the light (terminated on the camera side); the path tracer finds the caustic only by
+/// hitting the light through the glass (its shadow rays do not cross glass). bdpt must agree
+/// with the path tracer per pixel, over the caustic and over the image.
 TEST(BdptDispersion, AgreesWithPathTracerOnDispersiveSphereLitByAreaLight) {
     const std::optional<GlassInfo> sf11 = find_glass("SF11");
     ASSERT_TRUE(sf11);
@@ -495,20 +498,25 @@ TEST(BdptDispersion, AgreesWithPathTracerOnDispersiveSphereLitByAreaLight) {
     scene.camera = {{0, 2.4f, 2.4f}, {0, 0.3f, 0}, {0, 1, 0}, 40.f};
     Material glass;
     glass.name = "SF11";
-    glass.kt = constant_spectrum(1.0);
-    glass.eta = Spectrum(sf11->ior, SpectralResolution{});
+    LobeMixBsdf sf11_bsdf;
+    sf11_bsdf.kt = constant_spectrum(1.0);
+    sf11_bsdf.eta = Spectrum(sf11->ior, SpectralResolution{});
+    glass.bsdf = sf11_bsdf;
     const int floor = scene.add_material(diffuse_material(0.6));
     scene.planes.push_back({{0, 1, 0}, 0.f, floor});
     scene.spheres.push_back({{0, 0.5f, 0}, 0.5f, scene.add_material(glass)});
     const Vec3 light(-1.f, 2.f, -0.8f);
-    scene.spheres.push_back({light, 0.5f, scene.add_material(diffuse_material(0.0, 5.0))});
+    Sphere lamp{light, 0.5f, scene.add_material(test::black_material())};
+    lamp.light = test::add_constant_emitter(scene, ShapeKind::sphere, 5.0);
+    scene.spheres.push_back(lamp);
     scene.finalize();
     ASSERT_TRUE(scene.effects.dispersion);
 
-    // The path tracer finds the light only by hitting it, so its pixels on the far floor are
-    // skewed (a few hits each; a pixel that got few has a low σ too): pixels are compared in
-    // 2×2 blocks, whose pooled means are close to normal (over 20 seeds the largest block z
-    // was 2.5–3.7 for 256 blocks, as for normal errors; single pixels reached 6).
+    // The path tracer finds light through the glass only by hitting the light, so its caustic
+    // pixels are skewed (a few hits each; a pixel that got few has a low σ too): pixels are
+    // compared in 2×2 blocks, whose pooled means are close to normal (measured when the path
+    // tracer found the light only by hitting it, also on the far floor: over 20 seeds the
+    // largest block z was 2.5–3.7 for 256 blocks, as for normal errors; single pixels reached 6).
     constexpr int kSize = 32, kBlock = 2;
     const auto path = render_film(scene, small_settings(kSize, kSize, 2048, 62));
     const auto bdpt = render_film(scene, bdpt_settings(kSize, kSize, 512, 63));

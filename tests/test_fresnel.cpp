@@ -8,9 +8,9 @@
 #include <optional>
 #include <random>
 
-#include "render/bsdf.h"
+#include "model/bsdfs/bsdf.h"
 #include "model/bsdfs/fresnel.h"
-#include "render/material.h"
+#include "model/material.h"
 #include "spectral/sampled.h"
 #include "spectral/spectrum.h"
 
@@ -47,8 +47,11 @@ float fresnel_deg(double deg, double eta) {
 spt::Material glass(const spt::SpectrumSource& eta) {
     spt::Material m;
     m.name = "glass";
-    m.kt = spt::Spectrum(spt::SpectrumSource::constant(1.0), spt::SpectralResolution{});
-    m.eta = spt::Spectrum(eta, spt::SpectralResolution{spt::SpectralResolution::kExact});
+    spt::LobeMixBsdf b;
+    b.kt = spt::Spectrum(spt::SpectrumSource::constant(1.0), spt::SpectralResolution{});
+    b.eta = spt::Spectrum(eta, spt::SpectralResolution{spt::SpectralResolution::kExact});
+    m.bsdf = std::move(b);
+    m.flags = spt::bsdf_flags(m.bsdf);
     return m;
 }
 
@@ -273,9 +276,9 @@ TEST(DielectricBsdf, NormalIncidenceProbabilitiesAndWeights) {
         for (int i = 0; i < kSweep; ++i) {
             spt::SampledWavelengths lambda = spt::SampledWavelengths::sample(0.3f);
             const float u1 = (static_cast<float>(i) + 0.5f) / kSweep;
-            const std::optional<spt::BsdfSample> bs = spt::sample_bsdf(m, wo, n, lambda, 0.5f, u1, 0.5f);
+            const std::optional<spt::BsdfSample> bs = spt::bsdf_sample(m.bsdf, wo, n, lambda, 0.5f, u1, 0.5f, spt::TransportMode::radiance);
             ASSERT_TRUE(bs.has_value()) << "u1=" << u1;
-            EXPECT_TRUE(bs->is_specular);
+            EXPECT_TRUE(bs->is_delta());
             EXPECT_FALSE(lambda.secondary_terminated()) << "constant IOR must keep the companions";
             if (bs->wi.z * wo.z > 0.f) {  // reflected
                 ++reflections;
@@ -306,7 +309,7 @@ TEST(DielectricBsdf, ReflectionShareAt80Degrees) {
     for (int i = 0; i < kSamples; ++i) {
         spt::SampledWavelengths lambda = spt::SampledWavelengths::sample(rng.next_float());
         const std::optional<spt::BsdfSample> bs =
-            spt::sample_bsdf(m, wo, n, lambda, rng.next_float(), rng.next_float(), rng.next_float());
+            spt::bsdf_sample(m.bsdf, wo, n, lambda, rng.next_float(), rng.next_float(), rng.next_float(), spt::TransportMode::radiance);
         ASSERT_TRUE(bs.has_value());
         if (bs->wi.z > 0.f) {
             ++reflections;
@@ -326,7 +329,7 @@ TEST(DielectricBsdf, DispersiveRefractionKeepsOnlyTheHero) {
     // with weights F(λk)/F(λ0) (SPECTRAL.md §2.1).
     const spt::SpectrumSource src = bk7();
     const spt::Material m = glass(src);
-    ASSERT_TRUE(m.is_dispersive());
+    ASSERT_TRUE(m.flags.has(spt::BsdfFlags::dispersive));
     const spt::Vec3 n(0.f, 0.f, 1.f), wo = dir_deg(60.0);
     spt::SampledWavelengths base;
     base.lambda = {400.f, 500.f, 600.f, 700.f};
@@ -336,7 +339,7 @@ TEST(DielectricBsdf, DispersiveRefractionKeepsOnlyTheHero) {
     const float f0 = spt::fresnel_dielectric(cos_o, float(src.eval(400.0)));
 
     spt::SampledWavelengths lr = base;
-    const std::optional<spt::BsdfSample> r = spt::sample_bsdf(m, wo, n, lr, 0.5f, 0.f, 0.5f);
+    const std::optional<spt::BsdfSample> r = spt::bsdf_sample(m.bsdf, wo, n, lr, 0.5f, 0.f, 0.5f, spt::TransportMode::radiance);
     ASSERT_TRUE(r.has_value());
     EXPECT_FALSE(lr.secondary_terminated());
     EXPECT_EQ(lr.pdf, base.pdf);
@@ -348,7 +351,7 @@ TEST(DielectricBsdf, DispersiveRefractionKeepsOnlyTheHero) {
     }
 
     spt::SampledWavelengths lt = base;
-    const std::optional<spt::BsdfSample> t = spt::sample_bsdf(m, wo, n, lt, 0.5f, 0.999f, 0.5f);
+    const std::optional<spt::BsdfSample> t = spt::bsdf_sample(m.bsdf, wo, n, lt, 0.5f, 0.999f, 0.5f, spt::TransportMode::radiance);
     ASSERT_TRUE(t.has_value());
     EXPECT_TRUE(lt.secondary_terminated());
     EXPECT_EQ(lt.pdf[0], base.pdf[0] / 4.f);

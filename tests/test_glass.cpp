@@ -1,6 +1,6 @@
 // Glass catalogue (spectra/glasses.csv): published n_d and V_d, the BK7 constants of
 // ROBUSTNESS.md §4 and §7 case 21, and a 60° prism at minimum deviation traced through the
-// renderer's own dielectric sampling (sample_bsdf) against D(λ) = 2·asin(n·sin(A/2)) − A.
+// renderer's own dielectric sampling (bsdf_sample) against D(λ) = 2·asin(n·sin(A/2)) − A.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -14,8 +14,8 @@
 
 #include "geometry/plane.h"
 #include "io/embedded_files.h"
-#include "render/bsdf.h"
-#include "render/material.h"
+#include "model/bsdfs/bsdf.h"
+#include "model/material.h"
 #include "spectral/glass_catalog.h"
 #include "spectral/sampled.h"
 #include "spectral/spectrum.h"
@@ -34,8 +34,11 @@ spt::GlassInfo glass(std::string_view name) {
 spt::Material glass_material(const spt::SpectrumSource& ior) {
     spt::Material m;
     m.name = "glass";
-    m.kt = spt::Spectrum(spt::SpectrumSource::constant(1.0), spt::SpectralResolution{});
-    m.eta = spt::Spectrum(ior, spt::SpectralResolution{spt::SpectralResolution::kExact});
+    spt::LobeMixBsdf b;
+    b.kt = spt::Spectrum(spt::SpectrumSource::constant(1.0), spt::SpectralResolution{});
+    b.eta = spt::Spectrum(ior, spt::SpectralResolution{spt::SpectralResolution::kExact});
+    m.bsdf = std::move(b);
+    m.flags = spt::bsdf_flags(m.bsdf);
     return m;
 }
 
@@ -185,7 +188,7 @@ TEST(GlassCatalog, Bk7RefractionAt60Degrees) {
     for (auto [lambda, expected] : {std::pair{400.0, 34.452}, std::pair{700.0, 34.915}}) {
         spt::SampledWavelengths w = hero_at(lambda);
         const std::optional<spt::BsdfSample> bs =
-            spt::sample_bsdf(m, wo, n, w, 0.5f, kRefract, 0.5f);
+            spt::bsdf_sample(m.bsdf, wo, n, w, 0.5f, kRefract, 0.5f, spt::TransportMode::radiance);
         ASSERT_TRUE(bs.has_value());
         ASSERT_LT(bs->wi.z, 0.f) << "refracted into the glass";
         EXPECT_NEAR(std::acos(double(-bs->wi.z)) * 180.0 / kPiD, expected, 5e-4)
@@ -229,7 +232,7 @@ double angle_in_xz(const spt::Vec3& d) { return std::atan2(double(d.z), double(d
 /// A prism with apex angle A: two faces through the apex line (the y axis), outward normals
 /// n1 (left face) and n2 (right face) tilted A/2 from ±x, base below. A ray enters the left
 /// face at the minimum-deviation angle θ1 = asin(n·sin(A/2)) and leaves through the right face;
-/// both refractions are sample_bsdf's. Returns the total deviation (positive = towards the base)
+/// both refractions are bsdf_sample's. Returns the total deviation (positive = towards the base)
 /// and the inside ray's tilt from the base direction.
 void trace_prism(const spt::SpectrumSource& ior, double lambda_nm, double& deviation,
                  double& inside_tilt) {
@@ -243,13 +246,13 @@ void trace_prism(const spt::SpectrumSource& ior, double lambda_nm, double& devia
     const spt::Vec3 d_in(float(std::cos(rise)), 0.f, float(std::sin(rise)));
 
     const spt::Material m = glass_material(ior);
-    ASSERT_TRUE(m.is_dispersive());
+    ASSERT_TRUE(m.flags.has(spt::BsdfFlags::dispersive));
     spt::SampledWavelengths w = hero_at(lambda_nm);
 
     const std::optional<spt::BsdfSample> in =
-        spt::sample_bsdf(m, -d_in, n1, w, 0.5f, kRefract, 0.5f);
+        spt::bsdf_sample(m.bsdf, -d_in, n1, w, 0.5f, kRefract, 0.5f, spt::TransportMode::radiance);
     ASSERT_TRUE(in.has_value());
-    EXPECT_TRUE(in->is_specular);
+    EXPECT_TRUE(in->is_delta());
     ASSERT_LT(spt::dot(in->wi, n1), 0.f) << "refracted into the prism";
     // Dispersive refraction: the companions would bend elsewhere, so only the hero survives.
     EXPECT_TRUE(w.secondary_terminated());
@@ -267,9 +270,9 @@ void trace_prism(const spt::SpectrumSource& ior, double lambda_nm, double& devia
     EXPECT_NEAR(hit.p.z, inside.o.z, 1e-4) << "exits at the height it entered";
 
     const std::optional<spt::BsdfSample> out =
-        spt::sample_bsdf(m, -in->wi, hit.n, w, 0.5f, kRefract, 0.5f);
+        spt::bsdf_sample(m.bsdf, -in->wi, hit.n, w, 0.5f, kRefract, 0.5f, spt::TransportMode::radiance);
     ASSERT_TRUE(out.has_value());
-    EXPECT_TRUE(out->is_specular);
+    EXPECT_TRUE(out->is_delta());
     ASSERT_GT(spt::dot(out->wi, n2), 0.f) << "left the prism";
     deviation = angle_in_xz(d_in) - angle_in_xz(out->wi);
     inside_tilt = angle_in_xz(in->wi);

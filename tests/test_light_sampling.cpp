@@ -49,6 +49,15 @@ spt::Spectrum exact(const spt::SpectrumSource& s) {
     return spt::Spectrum(s, spt::SpectralResolution{spt::SpectralResolution::kExact});
 }
 
+/// Lambertian material of constant reflectance (0: a material that reflects nothing, for the
+/// emitters).
+spt::Material diffuse(const char* name, double kd) {
+    spt::Material m;
+    m.name = name;
+    m.bsdf = spt::DiffuseBsdf{exact(spt::SpectrumSource::constant(kd))};
+    return m;
+}
+
 /// Mean over 380–780 nm at 10 nm spacing (41 values), in double, from the analytic source:
 /// the "power" measure the sampler documents, recomputed independently.
 double mean_380_780(const spt::SpectrumSource& s) {
@@ -99,9 +108,10 @@ struct OwnFrame {
 
 /// Two point lights of different intensity, an emitting sphere and an emitting triangle (the
 /// four sampled lights), plus what must never be sampled: a diffuse sphere and triangle, an
-/// emitting infinite plane with its own material, and an emitting plane that shares the
-/// triangle's material. Every emission spectrum is exact (no bins), so the powers computed
-/// here from the sources are those the sampler sees.
+/// emitting infinite plane, and an emitting plane with the triangle's material and emission
+/// spectrum (its own emitter: nothing of the triangle's density may carry over to it). The
+/// emitters' materials reflect nothing. Every emission spectrum is exact (no bins), so the
+/// powers computed here from the sources are those the sampler sees.
 struct TestScene {
     spt::SpectrumSource point_a = spt::SpectrumSource::constant(2.0);
     spt::SpectrumSource point_b = spt::SpectrumSource::gaussian(600, 50, 10, 0.5);
@@ -109,39 +119,33 @@ struct TestScene {
     spt::SpectrumSource panel_le = spt::SpectrumSource::gaussian(500, 80, 8, 1);
     spt::Scene scene;
     int m_white = -1, m_sphere = -1, m_panel = -1, m_ceiling = -1;
+    int l_sphere = -1, l_panel = -1, l_ceiling = -1, l_wall = -1;  ///< the emitters (Scene::lights)
 
     static constexpr int kPointA = 0, kPointB = 1, kSphere = 2, kTriangle = 3, kLights = 4;
     std::array<double, kLights> probability{};  ///< expected choice probabilities
     double sphere_area = 0, triangle_area = 0;
 
     TestScene() {
-        spt::Material white;
-        white.name = "white";
-        white.kd = exact(spt::SpectrumSource::constant(0.7));
-        m_white = scene.add_material(white);
-        spt::Material lamp;
-        lamp.name = "sphere lamp";
-        lamp.emission = exact(sphere_le);
-        m_sphere = scene.add_material(lamp);
-        spt::Material panel;
-        panel.name = "panel";
-        panel.emission = exact(panel_le);
-        m_panel = scene.add_material(panel);
-        spt::Material ceiling;
-        ceiling.name = "ceiling";
-        ceiling.emission = exact(spt::SpectrumSource::constant(5.0));
-        m_ceiling = scene.add_material(ceiling);
+        m_white = scene.add_material(diffuse("white", 0.7));
+        m_sphere = scene.add_material(diffuse("sphere lamp", 0.0));
+        m_panel = scene.add_material(diffuse("panel", 0.0));
+        m_ceiling = scene.add_material(diffuse("ceiling", 0.0));
 
-        scene.point_lights.push_back({spt::Vec3(0.f, 1.5f, 0.f), exact(point_a)});
-        scene.point_lights.push_back({spt::Vec3(1.f, 1.f, 1.f), exact(point_b)});
-        scene.spheres.push_back({spt::Vec3(-1.f, 0.f, 0.f), 0.4f, m_sphere});
+        scene.add_point_light(spt::Vec3(0.f, 1.5f, 0.f), exact(point_a));
+        scene.add_point_light(spt::Vec3(1.f, 1.f, 1.f), exact(point_b));
+        l_sphere = scene.add_emitter(spt::ShapeKind::sphere, exact(sphere_le));
+        l_panel = scene.add_emitter(spt::ShapeKind::triangle, exact(panel_le));
+        l_ceiling = scene.add_emitter(spt::ShapeKind::plane, exact(spt::SpectrumSource::constant(5.0)));
+        l_wall = scene.add_emitter(spt::ShapeKind::plane, exact(panel_le));
+        scene.spheres.push_back({spt::Vec3(-1.f, 0.f, 0.f), 0.4f, m_sphere, l_sphere});
         scene.spheres.push_back({spt::Vec3(1.2f, -0.2f, 0.f), 0.5f, m_white});
         scene.triangles.push_back({spt::Vec3(-0.5f, -0.5f, -1.f), spt::Vec3(0.7f, -0.3f, -1.2f),
-                                   spt::Vec3(0.1f, 0.8f, -0.9f), m_panel});
+                                   spt::Vec3(0.1f, 0.8f, -0.9f), m_panel, l_panel});
         scene.triangles.push_back({spt::Vec3(0.f, -1.f, 1.f), spt::Vec3(1.f, -1.f, 1.f),
                                    spt::Vec3(0.f, -1.f, 2.f), m_white});
-        scene.planes.push_back({spt::Vec3(0.f, -1.f, 0.f), -2.f, m_ceiling});  // y = 2, facing down
-        scene.planes.push_back({spt::Vec3(0.f, 0.f, 1.f), -3.f, m_panel});     // z = −3, shares the panel's material
+        scene.planes.push_back({spt::Vec3(0.f, -1.f, 0.f), -2.f, m_ceiling, l_ceiling});  // y = 2, facing down
+        // z = −3: the panel's material and spectrum, its own (plane) emitter.
+        scene.planes.push_back({spt::Vec3(0.f, 0.f, 1.f), -3.f, m_panel, l_wall});
         scene.finalize();
 
         const spt::Sphere& s = scene.spheres[0];
@@ -170,7 +174,7 @@ int identify(const TestScene& ts, const spt::LightOrigin& o) {
     const spt::Scene& sc = ts.scene;
     if (o.delta_position) {
         for (int i = 0; i < 2; ++i)
-            if (o.p == sc.point_lights[i].position) return i;
+            if (o.p == std::get<spt::PointLight>(sc.lights[sc.point_light_indices[i]]).position) return i;
         return -1;
     }
     const spt::Sphere& s = sc.spheres[0];
@@ -370,10 +374,9 @@ TEST(LightSampling, ChoiceProportionalToPower) {
     for (std::size_t k = 0; k < run.origins.size(); k += 97) {
         const spt::LightOrigin& o = run.origins[k];
         const int id = run.light[k];
-        const spt::Spectrum& s = id == 0 ? sc.point_lights[0].intensity
-                                 : id == 1 ? sc.point_lights[1].intensity
-                                 : id == 2 ? sc.materials[ts.m_sphere].emission
-                                           : sc.materials[ts.m_panel].emission;
+        const spt::Spectrum& s = id < 2 ? std::get<spt::PointLight>(sc.lights[sc.point_light_indices[id]]).intensity
+                                 : id == 2 ? std::get<spt::SphereLight>(sc.lights[ts.l_sphere]).Le
+                                           : std::get<spt::TriangleMeshLight>(sc.lights[ts.l_panel]).Le;
         for (int i = 0; i < spt::kLambdaCount; ++i) ASSERT_EQ(o.Le[i], s.eval(run.lambda.lambda[i])) << "light " << id;
         if (id < 2) {
             ASSERT_TRUE(o.delta_position);
@@ -386,11 +389,9 @@ TEST(LightSampling, ChoiceProportionalToPower) {
 TEST(LightSampling, NoLightsNoSamples) {
     // A scene lit only by an emitting infinite plane has nothing to sample.
     spt::Scene scene;
-    spt::Material ceiling;
-    ceiling.name = "ceiling";
-    ceiling.emission = exact(spt::SpectrumSource::constant(5.0));
-    const int m = scene.add_material(ceiling);
-    scene.planes.push_back({spt::Vec3(0.f, -1.f, 0.f), -2.f, m});
+    const int m = scene.add_material(diffuse("ceiling", 0.0));
+    const int light = scene.add_emitter(spt::ShapeKind::plane, exact(spt::SpectrumSource::constant(5.0)));
+    scene.planes.push_back({spt::Vec3(0.f, -1.f, 0.f), -2.f, m, light});
     scene.finalize();
     const spt::LightSampler sampler(scene);
     EXPECT_TRUE(sampler.empty());
@@ -546,7 +547,7 @@ TEST(LightSampling, OriginPdfOfHitsMatchesSampledPdf) {
     // Rays from random points hit the emitters from outside and (sphere: from inside,
     // triangle: from the back) the other side; origin_pdf(hit) must equal the pdf_pos that
     // sample() reports for points on that emitter. Hits on the diffuse sphere and triangle,
-    // the emitting ceiling plane and the plane sharing the panel's material give 0.
+    // the emitting ceiling plane and the plane with the panel's material and spectrum give 0.
     const TestScene& ts = test_scene();
     const spt::Scene& sc = ts.scene;
     const spt::LightSampler sampler(sc);
@@ -594,10 +595,11 @@ TEST(LightSampling, OriginPdfOfHitsMatchesSampledPdf) {
         const std::optional<spt::Hit> hit = sc.intersect({origin, d});
         if (!hit) continue;
         const float pdf = sampler.origin_pdf(*hit);
-        if (hit->material == ts.m_sphere) {
+        if (hit->light == ts.l_sphere) {
             EXPECT_NEAR(pdf, pdf_sphere, 1e-5f * pdf_sphere);
             ++counted[which == 1 ? 1 : 0];
-        } else if (hit->material == ts.m_panel && std::fabs(hit->p.z + 3.f) > 1e-4f) {
+        } else if (hit->light == ts.l_panel) {
+            EXPECT_GT(std::fabs(hit->p.z + 3.f), 1e-4f) << "the z = −3 plane has its own emitter";
             EXPECT_NEAR(pdf, pdf_triangle, 1e-5f * pdf_triangle);
             ++counted[dot(hit->n, d) < 0.f ? 2 : 3];  // front (n faces the ray origin) or back
         } else {
@@ -682,15 +684,12 @@ struct EnvironmentScene {
     static constexpr double kLe = 0.5, kIntensity = 2.0;
 
     EnvironmentScene() {
-        spt::Material white;
-        white.name = "white";
-        white.kd = exact(spt::SpectrumSource::constant(0.7));
-        const int m = scene.add_material(white);
+        const int m = scene.add_material(diffuse("white", 0.7));
         scene.spheres.push_back({spt::Vec3(0.5f, 0.f, -0.5f), 0.8f, m});
         scene.planes.push_back({spt::Vec3(0.f, 1.f, 0.f), -1.f, m});
-        scene.point_lights.push_back({spt::Vec3(-1.f, 1.5f, 0.f), exact(spt::SpectrumSource::constant(kIntensity))});
+        scene.add_point_light(spt::Vec3(-1.f, 1.5f, 0.f), exact(spt::SpectrumSource::constant(kIntensity)));
         scene.camera.position = spt::Vec3(0.f, 0.5f, 3.f);
-        scene.background = exact(spt::SpectrumSource::constant(kLe));
+        scene.set_background(exact(spt::SpectrumSource::constant(kLe)));
         scene.finalize();
         // Box: x ∈ [−1, 1.3], y ∈ [−0.8, 1.5], z ∈ [−1.3, 3].
         const D3 lo{-1.0, -0.8, -1.3}, hi{1.3, 1.5, 3.0};
@@ -777,7 +776,7 @@ TEST(LightSampling, EnvironmentDirectionsDiskAndDensities) {
 TEST(LightSampling, NoEnvironmentWithoutBackground) {
     // The same scene with a black background: no environment entry, nothing to pay.
     EnvironmentScene es;
-    es.scene.background = exact(spt::SpectrumSource::constant(0.0));
+    es.scene.set_background(exact(spt::SpectrumSource::constant(0.0)));
     es.scene.finalize();
     const spt::LightSampler sampler(es.scene);
     EXPECT_FALSE(sampler.has_environment());

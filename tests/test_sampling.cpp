@@ -13,9 +13,9 @@
 
 #include "chi2.h"
 #include "core/sampling.h"
-#include "render/bsdf.h"
+#include "model/bsdfs/bsdf.h"
 #include "model/bsdfs/fresnel.h"
-#include "render/material.h"
+#include "model/material.h"
 #include "spectral/sampled.h"
 #include "spectral/spectrum.h"
 
@@ -46,12 +46,29 @@ spt::Spectrum constant(double v) {
     return spt::Spectrum(spt::SpectrumSource::constant(v), spt::SpectralResolution{});
 }
 
+/// A kd/ks/kt material as the scene loader builds it: a DiffuseBsdf when only kd is non-zero,
+/// a LobeMixBsdf otherwise.
 spt::Material make_material(const char* name, spt::Spectrum kd, spt::Spectrum ks, spt::Spectrum kt = constant(0),
                             spt::Spectrum eta = constant(1.5)) {
     spt::Material m;
     m.name = name;
-    m.kd = std::move(kd), m.ks = std::move(ks), m.kt = std::move(kt), m.eta = std::move(eta);
+    if (ks.is_zero() && kt.is_zero()) m.bsdf = spt::DiffuseBsdf{std::move(kd)};
+    else m.bsdf = spt::LobeMixBsdf{std::move(kd), std::move(ks), std::move(kt), std::move(eta)};
+    m.flags = spt::bsdf_flags(m.bsdf);
     return m;
+}
+
+/// The lobe parameters of a material from make_material (a DiffuseBsdf: kd alone, η 1.5).
+spt::LobeMixBsdf lobes(const spt::Material& m) {
+    if (const spt::DiffuseBsdf* d = std::get_if<spt::DiffuseBsdf>(&m.bsdf))
+        return spt::LobeMixBsdf{d->kd, constant(0.0), constant(0.0), constant(1.5)};
+    return std::get<spt::LobeMixBsdf>(m.bsdf);
+}
+
+/// Samples the material's BSDF for radiance (camera paths), as the path tracer does.
+std::optional<spt::BsdfSample> sample_bsdf(const spt::Material& m, const spt::Vec3& wo, const spt::Vec3& n,
+                                           spt::SampledWavelengths& lambda, float u_lobe, float u1, float u2) {
+    return spt::bsdf_sample(m.bsdf, wo, n, lambda, u_lobe, u1, u2, spt::TransportMode::radiance);
 }
 
 /// Uniformly distributed unit vector (double precision, then rounded).
@@ -197,9 +214,9 @@ TEST(PlasticBsdf, LobeChoiceProportionalToAlbedo) {
     for (int i = 0; i < kSamples; ++i) {
         spt::SampledWavelengths lambda = spt::SampledWavelengths::sample(rng.next_float());
         const std::optional<spt::BsdfSample> bs =
-            spt::sample_bsdf(m, wo, n, lambda, rng.next_float(), rng.next_float(), rng.next_float());
+            sample_bsdf(m, wo, n, lambda, rng.next_float(), rng.next_float(), rng.next_float());
         ASSERT_TRUE(bs.has_value());
-        if (!bs->is_specular) {
+        if (!bs->is_delta()) {
             ++diffuse;
         } else {
             // The specular lobe is a perfect mirror.
@@ -231,12 +248,12 @@ TEST(PlasticBsdf, SpectralWeightsAverageToAlbedo) {
     for (int i = 0; i < kSamples; ++i) {
         spt::SampledWavelengths lambda = base;
         const std::optional<spt::BsdfSample> bs =
-            spt::sample_bsdf(m, wo, n, lambda, rng.next_float(), rng.next_float(), rng.next_float());
+            sample_bsdf(m, wo, n, lambda, rng.next_float(), rng.next_float(), rng.next_float());
         ASSERT_TRUE(bs.has_value());
         for (int k = 0; k < spt::kLambdaCount; ++k) sum[k] += bs->weight[k], sum2[k] += double(bs->weight[k]) * bs->weight[k];
     }
     for (int k = 0; k < spt::kLambdaCount; ++k) {
-        const double albedo = m.kd.eval(base.lambda[k]) + m.ks.eval(base.lambda[k]);
+        const double albedo = lobes(m).kd.eval(base.lambda[k]) + lobes(m).ks.eval(base.lambda[k]);
         const double mean = sum[k] / kSamples;
         const double se = std::sqrt(std::max(0.0, sum2[k] / kSamples - mean * mean) / kSamples);
         EXPECT_GT(se, 0.0);
@@ -268,9 +285,9 @@ TEST(DiffuseBsdf, SamplesFollowCosineLawOnSideOfWo) {
             while (accepted < kWanted) {
                 spt::SampledWavelengths lambda = spt::SampledWavelengths::sample(rng.next_float());
                 const std::optional<spt::BsdfSample> bs =
-                    spt::sample_bsdf(*mat, wo, n, lambda, rng.next_float(), rng.next_float(), rng.next_float());
+                    sample_bsdf(*mat, wo, n, lambda, rng.next_float(), rng.next_float(), rng.next_float());
                 ASSERT_TRUE(bs.has_value());
-                if (bs->is_specular) continue;
+                if (bs->is_delta()) continue;
                 ++accepted;
                 ASSERT_NEAR(spt::length(bs->wi), 1.0, 1e-5);
                 const double c = spt::dot(bs->wi, n_wo);
@@ -304,7 +321,7 @@ TEST(DiffuseBsdf, NeverReturnsHorizonOrNonFiniteDirections) {
     for (float u1 : us)
         for (float u2 : us) {
             spt::SampledWavelengths lambda = spt::SampledWavelengths::sample(0.5f);
-            const std::optional<spt::BsdfSample> bs = spt::sample_bsdf(lambert, wo, n, lambda, 0.5f, u1, u2);
+            const std::optional<spt::BsdfSample> bs = sample_bsdf(lambert, wo, n, lambda, 0.5f, u1, u2);
             if (!bs) continue;
             EXPECT_TRUE(spt::is_finite(bs->wi)) << u1 << "," << u2;
             EXPECT_GT(spt::dot(bs->wi, n), 0.f) << u1 << "," << u2;
@@ -323,7 +340,7 @@ TEST(BsdfSample, ExactlyTangentWoGivesNoSample) {
     for (const spt::Material& m : materials) {
         for (float u : {0.1f, 0.5f, 0.9f}) {
             spt::SampledWavelengths lambda = spt::SampledWavelengths::sample(0.5f);
-            const std::optional<spt::BsdfSample> bs = spt::sample_bsdf(m, wo, n, lambda, u, u, u);
+            const std::optional<spt::BsdfSample> bs = sample_bsdf(m, wo, n, lambda, u, u, u);
             EXPECT_FALSE(bs.has_value()) << m.name << " u=" << u << " returned wi=(" << bs->wi.x << ","
                                          << bs->wi.y << "," << bs->wi.z << ")";
         }
@@ -362,7 +379,7 @@ TEST(BsdfEnergy, MeanWeightEqualsAlbedoAndNeverExceedsOne) {
             for (int i = 0; i < kSamples; ++i) {
                 spt::SampledWavelengths lambda = base;
                 const std::optional<spt::BsdfSample> bs =
-                    spt::sample_bsdf(m, wo, n, lambda, rng.next_float(), rng.next_float(), rng.next_float());
+                    sample_bsdf(m, wo, n, lambda, rng.next_float(), rng.next_float(), rng.next_float());
                 if (!bs) continue;  // absorbed / dropped: weight 0
                 for (int k = 0; k < spt::kLambdaCount; ++k) {
                     const double w = double(bs->weight[k]) * bs->eta_scale;
@@ -374,9 +391,10 @@ TEST(BsdfEnergy, MeanWeightEqualsAlbedoAndNeverExceedsOne) {
             const float cos_o = std::fabs(spt::dot(wo, n));
             for (int k = 0; k < spt::kLambdaCount; ++k) {
                 const float l = base.lambda[k];
-                double albedo = m.kd.eval(l) + m.ks.eval(l) + m.kt.eval(l);
-                if (m.is_dispersive() && k > 0) {
-                    const float eta = m.eta.eval(l);
+                const spt::LobeMixBsdf p = lobes(m);
+                double albedo = p.kd.eval(l) + p.ks.eval(l) + p.kt.eval(l);
+                if (m.flags.has(spt::BsdfFlags::dispersive) && k > 0) {
+                    const float eta = p.eta.eval(l);
                     albedo = spt::fresnel_dielectric(cos_o, spt::dot(wo, n) > 0.f ? eta : 1.f / eta);
                 }
                 const double mean = sum[k] / kSamples;

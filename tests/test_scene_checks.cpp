@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <memory>
+#include <variant>
 
 #include "render/renderer.h"
 #include "scene/builtin_scenes.h"
@@ -20,9 +21,11 @@ Scene scaled_cornell_point(float s) {
     for (Sphere& sp : scene.spheres) sp.center *= s, sp.radius *= s;
     scene.camera.position *= s;
     scene.camera.look_at *= s;
-    for (PointLight& l : scene.point_lights) {
-        l.position *= s;
-        l.intensity = Spectrum(SpectrumSource::blackbody(6500, 3.0 * double(s) * s, 560), SpectralResolution{});
+    for (Light& light : scene.lights) {
+        PointLight* l = std::get_if<PointLight>(&light);
+        if (!l) continue;
+        l->position *= s;
+        l->intensity = Spectrum(SpectrumSource::blackbody(6500, 3.0 * double(s) * s, 560), SpectralResolution{});
     }
     scene.finalize();
     return scene;
@@ -66,7 +69,8 @@ TEST(SceneValidation, ReflectanceAboveOneAtSomeWavelengthIsRefused) {
     Scene scene = *make_builtin_scene("cornell", SpectralResolution{});
     // Blue plastic kd peaks at 0.8 near 460 nm; a mirror coat of 0.25 pushes it over 1 there.
     for (Material& m : scene.materials)
-        if (m.name == "blue plastic") m.ks = Spectrum(SpectrumSource::constant(0.25), SpectralResolution{});
+        if (m.name == "blue plastic")
+            std::get<LobeMixBsdf>(m.bsdf).ks = Spectrum(SpectrumSource::constant(0.25), SpectralResolution{});
     try {
         scene.finalize();
         FAIL() << "kd + ks > 1 was accepted";
@@ -80,8 +84,14 @@ TEST(SceneValidation, ReflectanceAboveOneAtSomeWavelengthIsRefused) {
 
 TEST(SceneValidation, ReflectanceSumExactlyOneIsAccepted) {
     Scene scene = *make_builtin_scene("cornell", SpectralResolution{});
+    // Gray is loaded as a DiffuseBsdf (kd 0.75 only); the coat makes it a lobe mix.
     for (Material& m : scene.materials)
-        if (m.name == "gray") m.ks = Spectrum(SpectrumSource::constant(0.25), SpectralResolution{});
+        if (m.name == "gray") {
+            LobeMixBsdf coated;
+            coated.kd = std::get<DiffuseBsdf>(m.bsdf).kd;
+            coated.ks = Spectrum(SpectrumSource::constant(0.25), SpectralResolution{});
+            m.bsdf = coated;
+        }
     EXPECT_NO_THROW(scene.finalize());
 }
 
@@ -91,7 +101,7 @@ TEST(SceneValidation, NonPositiveRadiusAndBadIndexAreRefused) {
     EXPECT_THROW(scene.finalize(), SceneError);
     scene = *make_builtin_scene("cornell", SpectralResolution{});
     for (Material& m : scene.materials)
-        if (m.name == "glass") m.eta = Spectrum(SpectrumSource::constant(0.9), SpectralResolution{});
+        if (m.name == "glass") std::get<LobeMixBsdf>(m.bsdf).eta = Spectrum(SpectrumSource::constant(0.9), SpectralResolution{});
     EXPECT_THROW(scene.finalize(), SceneError);
 }
 

@@ -41,11 +41,13 @@ std::string error_of(const std::string& text, const RelativeFileReader& reader =
 
 double kd_at(const std::string& spectrum, double lambda) {
     const Scene s = load(scene_json("\"m\": {\"kd\": " + spectrum + "}", "{\"type\": \"sphere\", \"center\": [0,0,0], \"radius\": 1, \"material\": \"m\"}"));
-    return s.materials[0].kd.source().eval(lambda);
+    return test::kd_of(s.materials[0]).source().eval(lambda);
 }
 double emission_at(const std::string& spectrum, double lambda) {
     const Scene s = load(scene_json("", "{\"type\": \"sphere\", \"center\": [0,0,0], \"radius\": 1, \"emission\": " + spectrum + "}"));
-    return s.materials[0].emission.source().eval(lambda);
+    // The sphere's emitter (the shape's own "emission": a material that reflects nothing).
+    EXPECT_TRUE(s.materials[0].flags.is_black());
+    return std::get<SphereLight>(s.lights.at(static_cast<std::size_t>(s.spheres[0].light))).Le.source().eval(lambda);
 }
 
 TEST(SceneLoader, EverySpectrumForm) {
@@ -69,7 +71,7 @@ TEST(SceneLoader, IndexOfRefractionForms) {
     auto eta = [](const std::string& ior, double lambda) {
         const Scene s = load(scene_json("\"g\": {\"kt\": 1, \"ior\": " + ior + "}",
                                         "{\"type\": \"sphere\", \"center\": [0,0,0], \"radius\": 1, \"material\": \"g\"}"));
-        return s.materials[0].eta.source().eval(lambda);
+        return std::get<LobeMixBsdf>(s.materials[0].bsdf).eta.source().eval(lambda);
     };
     EXPECT_DOUBLE_EQ(eta("1.5", 500), 1.5);
     EXPECT_NEAR(eta("{\"type\": \"cauchy\", \"a\": 1.5046, \"b_um2\": 0.0042}", 587.6), 1.51676, 1e-5);
@@ -105,8 +107,12 @@ TEST(SceneLoader, EveryShapeAndLight) {
     EXPECT_NEAR(s.triangles[0].p1.y, 2, 1e-6);
     EXPECT_NEAR(s.triangles[0].p1.z, 1, 1e-6);
     EXPECT_EQ(s.triangles[3].p1, Vec3(6, 0, 0));
-    EXPECT_TRUE(s.materials[s.triangles[0].material].is_emissive());
-    ASSERT_EQ(s.point_lights.size(), 1u);
+    // The quad emits: its two triangles share one emitter; the other shapes emit nothing.
+    EXPECT_GE(s.triangles[0].light, 0);
+    EXPECT_EQ(s.triangles[1].light, s.triangles[0].light);
+    EXPECT_EQ(s.triangles[2].light, -1);
+    EXPECT_EQ(s.spheres[0].light, -1);
+    ASSERT_EQ(s.point_light_indices.size(), 1u);
     EXPECT_EQ(s.width, 64);
     EXPECT_EQ(s.height, 32);
     EXPECT_EQ(s.spp, 8);

@@ -12,7 +12,9 @@
 #include <numbers>
 #include <string>
 #include <utility>
+#include <variant>
 
+#include "model/material.h"
 #include "render/film.h"
 #include "render/renderer.h"
 #include "scene/scene.h"
@@ -24,19 +26,47 @@ inline Spectrum constant_spectrum(double value, SpectralResolution res = {}) {
     return Spectrum(SpectrumSource::constant(value), res);
 }
 
-/// Lambertian material with reflectance `albedo`, emitting `emission` from both sides.
-inline Material diffuse_material(double albedo, double emission = 0.0) {
+/// Lambertian material with reflectance `albedo`. Emission is not a material property: an
+/// emitting shape carries an emitter (add_constant_emitter).
+inline Material diffuse_material(double albedo) {
     Material m;
     m.name = "diffuse";
-    m.kd = constant_spectrum(albedo);
-    m.emission = constant_spectrum(emission);
+    m.bsdf = DiffuseBsdf{constant_spectrum(albedo)};
+    m.flags = bsdf_flags(m.bsdf);
     return m;
+}
+
+/// A material with no lobe at all (reflects nothing): the surface of a pure emitter.
+inline Material black_material() {
+    Material m;
+    m.name = "black";
+    m.bsdf = DiffuseBsdf{};
+    m.flags = bsdf_flags(m.bsdf);
+    return m;
+}
+
+/// Adds an emitter of constant radiance `radiance` (both sides) for a shape of the given kind
+/// and returns the index to store in that shape's `light` (a quad's or a mesh's triangles
+/// share it). A zero radiance adds nothing and returns −1 (no emitter), as the loader does.
+inline int add_constant_emitter(Scene& scene, ShapeKind kind, double radiance) {
+    if (radiance == 0.0) return -1;
+    return scene.add_emitter(kind, constant_spectrum(radiance));
+}
+
+/// The diffuse reflectance of a material of either kind (a loaded kd/ks/kt material with only
+/// kd becomes a DiffuseBsdf, any other a LobeMixBsdf).
+inline const Spectrum& kd_of(const Material& m) {
+    if (const DiffuseBsdf* d = std::get_if<DiffuseBsdf>(&m.bsdf)) return d->kd;
+    return std::get<LobeMixBsdf>(m.bsdf).kd;
 }
 
 inline Material mirror_material(double ks = 1.0) {
     Material m;
     m.name = "mirror";
-    m.ks = constant_spectrum(ks);
+    LobeMixBsdf b;
+    b.ks = constant_spectrum(ks);
+    m.bsdf = std::move(b);
+    m.flags = bsdf_flags(m.bsdf);
     return m;
 }
 
@@ -44,8 +74,11 @@ inline Material mirror_material(double ks = 1.0) {
 inline Material glass_material(double eta) {
     Material m;
     m.name = "glass";
-    m.kt = constant_spectrum(1.0);
-    m.eta = constant_spectrum(eta);
+    LobeMixBsdf b;
+    b.kt = constant_spectrum(1.0);
+    b.eta = constant_spectrum(eta);
+    m.bsdf = std::move(b);
+    m.flags = bsdf_flags(m.bsdf);
     return m;
 }
 
@@ -60,10 +93,12 @@ inline Scene load_hard_case(const std::string& name) {
 /// The scene without shapes and lights: its pixels see the bare environment (radiance =
 /// background).
 inline Scene environment_only(Scene scene) {
+    const Spectrum background = scene.environment() ? scene.environment()->Le : Spectrum();
     scene.spheres.clear();
     scene.planes.clear();
     scene.triangles.clear();
-    scene.point_lights.clear();
+    scene.lights.clear();  // point lights and the shapes' emitters
+    scene.set_background(background);
     scene.finalize();
     return scene;
 }
@@ -72,21 +107,27 @@ inline Scene environment_only(Scene scene) {
 inline Material bk7_material(SpectralResolution res = {}) {
     Material m;
     m.name = "bk7";
-    m.kt = constant_spectrum(1.0);
-    m.eta = Spectrum(SpectrumSource::sellmeier(1.03961212, 0.231792344, 1.01046945, 0.00600069867,
+    LobeMixBsdf b;
+    b.kt = constant_spectrum(1.0);
+    b.eta = Spectrum(SpectrumSource::sellmeier(1.03961212, 0.231792344, 1.01046945, 0.00600069867,
                                                0.0200179144, 103.560653),
                      res);
+    m.bsdf = std::move(b);
+    m.flags = bsdf_flags(m.bsdf);
     return m;
 }
 
-/// Camera inside a closed unit sphere at the origin whose inner surface is `material`; the
-/// camera sits off-centre so that rays do not all meet the wall at normal incidence.
-inline Scene closed_sphere_scene(Material material) {
+/// Camera inside a closed unit sphere at the origin whose inner surface is `material`,
+/// emitting the constant radiance `emission` from both sides (0: no emitter); the camera sits
+/// off-centre so that rays do not all meet the wall at normal incidence.
+inline Scene closed_sphere_scene(Material material, double emission = 0.0) {
     Scene scene;
     scene.name = "closed sphere";
     scene.camera = {{0.3f, -0.2f, 0.1f}, {-0.2f, 0.1f, -1.f}, {0, 1, 0}, 70.f};
     const int m = scene.add_material(std::move(material));
-    scene.spheres.push_back({{0, 0, 0}, 1.f, m});
+    Sphere wall{{0, 0, 0}, 1.f, m};
+    wall.light = add_constant_emitter(scene, ShapeKind::sphere, emission);
+    scene.spheres.push_back(wall);
     return scene;
 }
 
@@ -101,7 +142,7 @@ inline Scene lit_plane_scene(double albedo, double intensity, float h, float x, 
     scene.name = "lit plane";
     const int m = scene.add_material(diffuse_material(albedo));
     scene.planes.push_back({{0, 1, 0}, height, m});
-    scene.point_lights.push_back({{0, height + h, 0}, constant_spectrum(intensity)});
+    scene.add_point_light({0, height + h, 0}, constant_spectrum(intensity));
     scene.camera = {{x, height + camera_height, z}, {x, height, z}, {0, 0, -1}, vfov_degrees};
     return scene;
 }

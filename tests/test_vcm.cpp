@@ -295,13 +295,13 @@ void expect_furnace(const Scene& scene, double exact, std::uint64_t seed, int pa
 
 TEST(Vcm, FurnacePointLightAtCentreGivesOne) {
     Scene scene = closed_sphere_scene(diffuse_material(0.5));
-    scene.point_lights.push_back({{0, 0, 0}, constant_spectrum(std::numbers::pi)});
+    scene.add_point_light({0, 0, 0}, constant_spectrum(std::numbers::pi));
     scene.finalize();
     expect_furnace(scene, 1.0, 11, 1024, 0.003);
 }
 
 TEST(Vcm, FurnaceEmissiveAlbedo08GivesFive) {
-    Scene scene = closed_sphere_scene(diffuse_material(0.8, 1.0));
+    Scene scene = closed_sphere_scene(diffuse_material(0.8), 1.0);
     scene.finalize();
     expect_furnace(scene, 5.0, 13, 256, 0.04);
 }
@@ -353,10 +353,10 @@ Scene mirror_scene(bool unfolded) {
     const int glass = s.add_material(glass_material(1.5));
     s.planes.push_back({{0, 1, 0}, 0.f, floor});
     s.spheres.push_back({kGlassCentre, kGlassRadius, glass});
-    s.point_lights.push_back({kLight, constant_spectrum(1.0)});
+    s.add_point_light(kLight, constant_spectrum(1.0));
     if (unfolded) {
         s.spheres.push_back({{-kGlassCentre.x, kGlassCentre.y, kGlassCentre.z}, kGlassRadius, glass});
-        s.point_lights.push_back({{-kLight.x, kLight.y, kLight.z}, constant_spectrum(1.0)});
+        s.add_point_light({-kLight.x, kLight.y, kLight.z}, constant_spectrum(1.0));
     } else {
         const int mirror = s.add_material(mirror_material(1.0));
         s.planes.push_back({{1, 0, 0}, kMirrorX, mirror});
@@ -483,7 +483,7 @@ TEST(Vcm, ResumedRenderEqualsStraightRun) {
 /// counted one lower (planted: s + t − 4), 0.5580 and 0.7897 (z = +26, +16).
 TEST(Vcm, MaxDepthCountsMergesLikeConnections) {
     Scene scene = closed_sphere_scene(diffuse_material(0.5));
-    scene.point_lights.push_back({{0, 0, 0}, constant_spectrum(std::numbers::pi)});
+    scene.add_point_light({0, 0, 0}, constant_spectrum(std::numbers::pi));
     scene.finalize();
     for (const auto& [depth, exact] : {std::pair{1, 0.5}, std::pair{2, 0.75}}) {
         RenderSettings rs = with(IntegratorKind::vcm, 12, 12, 512, 41, 0.3f);
