@@ -111,25 +111,79 @@ void render_pixel_bdpt(const BdptContext& ctx, const RenderSettings& settings, i
 constexpr std::uint64_t kLightSubpathStream = 0x6c8e9cf570932bd5ull;
 constexpr int kLightSubpathsPerTask = 4096;
 
-/// vcm, light phase: light subpaths [first, end) of sample s, at the pass's wavelengths.
-void trace_light_subpaths(const BdptContext& ctx, const RenderSettings& settings, int first, int end, int s,
-                          const SampledWavelengths& lambda, float eta, PathStats& stats,
-                          LightSubpathBatch& batch) {
-    for (int i = first; i < end; ++i) {
-        Rng rng(settings.seed ^ kLightSubpathStream, static_cast<std::uint64_t>(i), static_cast<std::uint64_t>(s));
-        batch.trace(ctx, lambda, eta, rng, stats);
-    }
-}
+/// vcm's passes (one sample per pixel each). A pass has two phases: the light phase traces one
+/// light subpath per pixel at the pass's wavelengths (tasks of the shared queue, their splats
+/// merged in task order), then the grid of their photons is built; the camera phase renders
+/// the tiles, each camera subpath connected and merged with them.
+class VcmPasses {
+public:
+    VcmPasses(const BdptContext& ctx, const RenderSettings& settings)
+        : m_ctx(ctx), m_settings(settings),
+          m_first_radius(settings.integrator.merge_radius > 0.f ? settings.integrator.merge_radius
+                                                                : default_merge_radius(ctx, settings)) {}
 
-/// vcm, camera phase: the pixel's sample s (Rng and jitter as the other integrators, the
-/// pass's wavelengths instead of its own), connected to light subpath y·width + x.
-void render_pixel_vcm(const BdptContext& ctx, const MergeContext& merge, const RenderSettings& settings,
-                      const SampledWavelengths& lambda, int x, int y, int s, Film& film, PathStats& stats) {
-    PixelSample ps = start_pixel_sample(pixel_stream(settings, x, y), x, y, s, settings);
-    const auto light_path = static_cast<std::uint32_t>(y * settings.width + x);
-    const SampledSpectrum L = trace_camera_subpath(ctx, merge, light_path, ps.ray(ctx.camera), lambda, ps.rng, stats);
-    film.add_sample(x, y, L, lambda);
-}
+    /// Starts the pass at sample `first`: its wavelengths and radius. Returns how many tasks
+    /// its light phase has.
+    int begin_pass(int first) {
+        m_lambda = pass_wavelengths(m_settings.seed, first);
+        if (m_settings.integrator.wavelengths_per_path == 1) m_lambda.terminate_secondary();
+        m_radius = merge_radius(m_first_radius, first);
+        const int n = m_settings.width * m_settings.height;
+        m_eta = kPi * m_radius * m_radius * static_cast<float>(n);
+        const int tasks = (n + kLightSubpathsPerTask - 1) / kLightSubpathsPerTask;
+        m_batches.assign(static_cast<std::size_t>(tasks), {});
+        return tasks;
+    }
+
+    /// Pushes the light-phase tasks of the pass begun at sample `first`.
+    void queue_light_tasks(int first, WorkQueue<TileTask>& queue) const {
+        const int n = m_settings.width * m_settings.height;
+        for (int k = 0; k < static_cast<int>(m_batches.size()); ++k)
+            queue.push({k * kLightSubpathsPerTask, 0, std::min(n, (k + 1) * kLightSubpathsPerTask), 1, first,
+                        first + 1, k, true});
+    }
+
+    /// Worker side of the light phase: light subpaths [x0, x1) of the task's sample (none if
+    /// cancelled); their splats go to the merger in task order.
+    void run_light_task(const TileTask& task, bool cancelled, PathStats& stats, SplatMerger& merger) {
+        LightSubpathBatch& batch = m_batches[static_cast<std::size_t>(task.index)];
+        if (!cancelled) {
+            for (int i = task.x0; i < task.x1; ++i) {
+                Rng rng(m_settings.seed ^ kLightSubpathStream, static_cast<std::uint64_t>(i),
+                        static_cast<std::uint64_t>(task.first_sample));
+                batch.trace(m_ctx, m_lambda, m_eta, rng, stats);
+            }
+        }
+        merger.submit(task.index, std::move(batch.splats), static_cast<std::uint64_t>(task.x1 - task.x0));
+    }
+
+    /// After the light phase: the photon grid of the pass.
+    void build_grid() { m_pass.build(m_batches, m_ctx.scene, m_lambda, m_radius, m_eta); }
+
+    /// Camera phase of a tile: each pixel's sample (Rng and jitter as the other integrators,
+    /// the pass's wavelengths instead of its own), connected to light subpath y·width + x.
+    void render_tile(const TileTask& task, Film& film, PathStats& stats) const {
+        const MergeContext mc = m_pass.context();
+        for (int y = task.y0; y < task.y1; ++y)
+            for (int x = task.x0; x < task.x1; ++x) {
+                const int s = task.first_sample;
+                PixelSample ps = start_pixel_sample(pixel_stream(m_settings, x, y), x, y, s, m_settings);
+                const auto light_path = static_cast<std::uint32_t>(y * m_settings.width + x);
+                const SampledSpectrum L =
+                    trace_camera_subpath(m_ctx, mc, light_path, ps.ray(m_ctx.camera), m_lambda, ps.rng, stats);
+                film.add_sample(x, y, L, m_lambda);
+            }
+    }
+
+private:
+    const BdptContext& m_ctx;
+    const RenderSettings& m_settings;
+    float m_first_radius;
+    SampledWavelengths m_lambda{};  ///< the current pass's wavelengths
+    float m_radius = 0.f, m_eta = 0.f;
+    std::vector<LightSubpathBatch> m_batches;
+    MergePass m_pass;
+};
 
 /// Counts finished tiles so the producer can wait for the end of a pass.
 class PassLatch {
@@ -213,15 +267,8 @@ RenderStats render(const Scene& scene, const RenderSettings& settings, Film& fil
         bidir.emplace(scene, camera, *lights, settings.integrator, settings.width);
     }
     SplatMerger merger(film);
-
-    // Vertex merging: the current pass's wavelengths, radius and light subpaths.
-    SampledWavelengths pass_lambda{};
-    float pass_eta = 0.f;
-    std::vector<LightSubpathBatch> batches;
-    MergePass merge_pass;
-    float first_radius = settings.integrator.merge_radius;
-    if (vcm && !(first_radius > 0.f))
-        first_radius = default_merge_radius(*bidir, settings);
+    std::optional<VcmPasses> vcm_passes;
+    if (vcm) vcm_passes.emplace(*bidir, settings);
 
     WorkQueue<TileTask> queue;
     PassLatch latch;
@@ -236,21 +283,13 @@ RenderStats render(const Scene& scene, const RenderSettings& settings, Film& fil
                 std::uint64_t paths = 0;
                 std::vector<Splat> splats;
                 if (task->light_subpaths) {
-                    LightSubpathBatch& batch = batches[static_cast<std::size_t>(task->index)];
-                    if (!cancelled()) {
-                        trace_light_subpaths(*bidir, settings, task->x0, task->x1, task->first_sample, pass_lambda,
-                                             pass_eta, local, batch);
-                    }
-                    merger.submit(task->index, std::move(batch.splats), static_cast<std::uint64_t>(task->x1 - task->x0));
+                    vcm_passes->run_light_task(*task, cancelled(), local, merger);
                     latch.finished_one(0);
                     continue;
                 }
                 if (!cancelled()) {
                     if (vcm) {
-                        const MergeContext mc = merge_pass.context();
-                        for (int y = task->y0; y < task->y1; ++y)
-                            for (int x = task->x0; x < task->x1; ++x)
-                                render_pixel_vcm(*bidir, mc, settings, pass_lambda, x, y, task->first_sample, film, local);
+                        vcm_passes->render_tile(*task, film, local);
                     } else if (bdpt) {
                         for (int y = task->y0; y < task->y1; ++y)
                             for (int x = task->x0; x < task->x1; ++x)
@@ -287,22 +326,14 @@ RenderStats render(const Scene& scene, const RenderSettings& settings, Film& fil
         const int end = std::min(settings.spp, first + pass_spp);
         if (vcm) {
             // Light phase: every light subpath of the pass, then the grid of their photons.
-            pass_lambda = pass_wavelengths(settings.seed, first);
-            if (settings.integrator.wavelengths_per_path == 1) pass_lambda.terminate_secondary();
-            const float radius = merge_radius(first_radius, first);
-            const int n = settings.width * settings.height;
-            const int tasks = (n + kLightSubpathsPerTask - 1) / kLightSubpathsPerTask;
-            pass_eta = kPi * radius * radius * static_cast<float>(n);
-            batches.assign(static_cast<std::size_t>(tasks), {});
+            const int tasks = vcm_passes->begin_pass(first);
             latch.reset();
             merger.reset(tasks);
-            for (int k = 0; k < tasks; ++k)
-                queue.push({k * kLightSubpathsPerTask, 0, std::min(n, (k + 1) * kLightSubpathsPerTask), 1, first,
-                            end, k, true});
+            vcm_passes->queue_light_tasks(first, queue);
             while (!latch.wait_for(tasks, std::chrono::milliseconds(200)))
                 if (progress) progress(latch.paths(), total_paths);
             if (cancelled()) break;
-            merge_pass.build(batches, scene, pass_lambda, radius, pass_eta);
+            vcm_passes->build_grid();
         }
         latch.reset();
         int tiles = 0;
