@@ -17,6 +17,22 @@ struct TriangleIntersection {
     double b0, b1, b2;  ///< barycentric weights of p0, p1, p2
 };
 
+/// What a mesh's vertices add to its triangles: normals for smooth shading, and (u, v).
+struct TriangleAttributes {
+    Vec3 n[3];                ///< unit vertex normals (Vec3{} each when the mesh has none)
+    float uv[3][2] = {};      ///< vertex (u, v)
+    bool has_normals = false, has_uv = false;
+
+    /// The interpolated unit normal at barycentrics b, turned to the side of the geometric
+    /// normal ng (shading normals stay on the geometric side: Hit::ns).
+    Vec3 shading_normal(double b0, double b1, double b2, const Vec3& ng) const {
+        const Vec3 n_i = n[0] * static_cast<float>(b0) + n[1] * static_cast<float>(b1) + n[2] * static_cast<float>(b2);
+        const float len = length(n_i);
+        if (!(len > 0.f) || !std::isfinite(len)) return ng;  // opposite normals cancel: no shading normal
+        return face_forward(n_i / len, ng);
+    }
+};
+
 struct Triangle {
     Vec3 p0, p1, p2;  ///< counter-clockwise seen from the front (the side n points to)
     int material = -1;

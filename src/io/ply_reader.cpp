@@ -271,6 +271,7 @@ PlyMesh parse_ply(std::string_view bytes, const std::string& origin) {
     // Which element and properties hold the mesh.
     int vertex_element = -1, face_element = -1;
     int prop_xyz[3] = {-1, -1, -1}, prop_indices = -1;
+    int prop_attr[5] = {-1, -1, -1, -1, -1};  ///< nx, ny, nz, u, v
     for (int e = 0; e < static_cast<int>(elements.size()); ++e) {
         const Element& el = elements[e];
         if (el.properties.empty() && el.count > 0)
@@ -285,6 +286,16 @@ PlyMesh parse_ply(std::string_view bytes, const std::string& origin) {
                     }
             if (prop_xyz[0] < 0 || prop_xyz[1] < 0 || prop_xyz[2] < 0)
                 header_error(origin, el.line, "vertex element without x, y and z properties; expected all three");
+            // Optional per-vertex normals (nx ny nz) and surface coordinates (u v, or s t, or
+            // texture_u texture_v), used only when complete.
+            const char* const names[5][3] = {{"nx", "nx", "nx"}, {"ny", "ny", "ny"}, {"nz", "nz", "nz"},
+                                             {"u", "s", "texture_u"}, {"v", "t", "texture_v"}};
+            for (int p = 0; p < static_cast<int>(el.properties.size()); ++p)
+                for (int a = 0; a < 5; ++a)
+                    for (const char* name : names[a])
+                        if (el.properties[p].name == name && !el.properties[p].is_list) prop_attr[a] = p;
+            if (prop_attr[0] < 0 || prop_attr[1] < 0 || prop_attr[2] < 0) prop_attr[0] = prop_attr[1] = prop_attr[2] = -1;
+            if (prop_attr[3] < 0 || prop_attr[4] < 0) prop_attr[3] = prop_attr[4] = -1;
         } else if (el.name == "face") {
             if (vertex_element < 0) header_error(origin, el.line, "face element before the vertex element; expected vertices first");
             face_element = e;
@@ -324,6 +335,7 @@ PlyMesh parse_ply(std::string_view bytes, const std::string& origin) {
         const Element& el = elements[e];
         for (std::uint64_t item = 0; item < el.count; ++item) {
             double xyz[3] = {0, 0, 0};
+            double attr[5] = {0, 0, 0, 0, 0};
             for (int p = 0; p < static_cast<int>(el.properties.size()); ++p) {
                 const Property& prop = el.properties[p];
                 if (!prop.is_list) {
@@ -335,6 +347,14 @@ PlyMesh parse_ply(std::string_view bytes, const std::string& origin) {
                                 if (!std::isfinite(v) || std::fabs(v) > 3.0e38)
                                     body.fail_at(pos, "vertex " + std::to_string(item) + " coordinate is not a finite float; expected a finite number");
                                 xyz[a] = v;
+                            }
+                    if (e == vertex_element)
+                        for (int a = 0; a < 5; ++a)
+                            if (p == prop_attr[a]) {
+                                if (!std::isfinite(v) || std::fabs(v) > 3.0e38)
+                                    body.fail_at(pos, "vertex " + std::to_string(item) + " " + prop.name +
+                                                          " is not a finite float; expected a finite number");
+                                attr[a] = v;
                             }
                     continue;
                 }
@@ -361,8 +381,12 @@ PlyMesh parse_ply(std::string_view bytes, const std::string& origin) {
                     previous = index;
                 }
             }
-            if (e == vertex_element)
+            if (e == vertex_element) {
                 mesh.positions.push_back({static_cast<float>(xyz[0]), static_cast<float>(xyz[1]), static_cast<float>(xyz[2])});
+                if (prop_attr[0] >= 0)
+                    mesh.normals.push_back({static_cast<float>(attr[0]), static_cast<float>(attr[1]), static_cast<float>(attr[2])});
+                if (prop_attr[3] >= 0) mesh.uvs.push_back({static_cast<float>(attr[3]), static_cast<float>(attr[4])});
+            }
         }
     }
     body.expect_end();

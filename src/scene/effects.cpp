@@ -15,6 +15,7 @@ std::string Effects::describe() const {
     add(mirror, "mirror reflection");
     add(transmission, "dielectric transmission");
     add(dispersion, "dispersion");
+    add(shading_normals, "smooth shading (vertex normals)");
     return s.empty() ? "none" : s;
 }
 

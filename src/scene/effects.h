@@ -12,6 +12,7 @@ struct Effects {
     bool mirror = false;             ///< perfect specular reflection
     bool transmission = false;       ///< Fresnel dielectrics
     bool dispersion = false;         ///< wavelength-dependent index: hero set splits
+    bool shading_normals = false;    ///< meshes with vertex normals: smooth shading
 
     std::string describe() const;
 };

@@ -125,7 +125,7 @@ std::optional<Hit> Scene::intersect_bvh(const Ray& ray, double t_best, int best_
     BvhHit h;
     if (m_bvh.intersect(ray, spheres, triangles, t_best, h)) {
         const auto i = prim_index(h.prim);
-        if (is_triangle(h.prim)) return with_prim(triangles[i].make_hit(h.tri), ShapeKind::triangle, i);
+        if (is_triangle(h.prim)) return triangle_hit(triangles[i], h.tri);
         return with_prim(spheres[i].make_hit(ray, t_best), ShapeKind::sphere, i);
     }
     if (best_plane >= 0) return with_prim(planes[best_plane].make_hit(ray, t_best), ShapeKind::plane, best_plane);
@@ -157,6 +157,7 @@ void Scene::finalize() {
     for (const Triangle& t : triangles) {
         require(finite(t.p0) && finite(t.p1) && finite(t.p2), "triangle vertices must be finite");
         require(!t.is_degenerate(), "triangle has zero area (collinear or repeated vertices)");
+        require(t.attributes < static_cast<int>(triangle_attributes.size()), "a triangle refers to vertex attributes that do not exist");
         check_material_index(t.material, "a triangle");
     }
     require(width > 0 && height > 0 && spp > 0, "image size and spp must be positive");
@@ -208,7 +209,10 @@ void Scene::finalize() {
     };
     for (const Sphere& s : spheres) analyse(s.material);
     for (const Plane& p : planes) analyse(p.material);
-    for (const Triangle& t : triangles) analyse(t.material);
+    for (const Triangle& t : triangles) {
+        analyse(t.material);
+        effects.shading_normals |= t.attributes >= 0 && triangle_attributes[static_cast<std::size_t>(t.attributes)].has_normals;
+    }
 }
 
 void Scene::finalize_lights() {

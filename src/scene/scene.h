@@ -42,6 +42,8 @@ struct Scene {
     std::vector<Plane> planes;
     /// Triangles of meshes, quads and single triangles, in one flat array.
     std::vector<Triangle> triangles;
+    /// Vertex normals and (u, v) of mesh triangles (Triangle::attributes indexes it).
+    std::vector<TriangleAttributes> triangle_attributes;
     /// Every light: point lights, the emitters attached to shapes (a shape's `light` is its
     /// index here) and the environment. finalize() copies each emitting shape's geometry
     /// into its light, so shapes may change until then.
@@ -113,7 +115,7 @@ struct Scene {
         m_triangle_lanes.candidates(ray, [&](int i) {
             if (auto ti = triangles[i].intersect(ray, t_best)) t_best = ti->t, best_triangle = &triangles[i], best_ti = ti;
         });
-        if (best_triangle) return with_prim(best_triangle->make_hit(*best_ti), ShapeKind::triangle, best_triangle - triangles.data());
+        if (best_triangle) return triangle_hit(*best_triangle, *best_ti);
         if (best_sphere) return with_prim(best_sphere->make_hit(ray, t_best), ShapeKind::sphere, best_sphere - spheres.data());
         if (best_plane >= 0) {
             const int axis = m_plane_axis[best_plane];
@@ -138,6 +140,16 @@ struct Scene {
     }
 
 private:
+    /// The hit record of a triangle: its primitive, and its shading normal on meshes with
+    /// vertex normals.
+    Hit triangle_hit(const Triangle& tri, const TriangleIntersection& ti) const {
+        Hit hit = with_prim(tri.make_hit(ti), ShapeKind::triangle, &tri - triangles.data());
+        if (tri.attributes >= 0) [[unlikely]] {
+            const TriangleAttributes& a = triangle_attributes[static_cast<std::size_t>(tri.attributes)];
+            if (a.has_normals) hit.ns = a.shading_normal(ti.b0, ti.b1, ti.b2, hit.n);
+        }
+        return hit;
+    }
     /// Copies the emitting shapes' geometry into their lights, checks the lights, finds the
     /// bounding sphere and builds the light choices.
     void finalize_lights();

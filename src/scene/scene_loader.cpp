@@ -196,6 +196,24 @@ private:
             for (int i = 0; i < 3; ++i) out[i] = m[i][0] * p.x + m[i][1] * p.y + m[i][2] * p.z + t[i];
             return {static_cast<float>(out[0]), static_cast<float>(out[1]), static_cast<float>(out[2])};
         }
+        /// A normal under the map: the inverse transpose of m, as its cofactor matrix times the
+        /// sign of the determinant (a mirroring scale turns the surface inside out), normalised;
+        /// zero for a zero normal.
+        Vec3 apply_normal(const Vec3& n) const {
+            const double c[3][3] = {{m[1][1] * m[2][2] - m[1][2] * m[2][1], m[1][2] * m[2][0] - m[1][0] * m[2][2],
+                                     m[1][0] * m[2][1] - m[1][1] * m[2][0]},
+                                    {m[0][2] * m[2][1] - m[0][1] * m[2][2], m[0][0] * m[2][2] - m[0][2] * m[2][0],
+                                     m[0][1] * m[2][0] - m[0][0] * m[2][1]},
+                                    {m[0][1] * m[1][2] - m[0][2] * m[1][1], m[0][2] * m[1][0] - m[0][0] * m[1][2],
+                                     m[0][0] * m[1][1] - m[0][1] * m[1][0]}};
+            const double det = m[0][0] * c[0][0] + m[0][1] * c[0][1] + m[0][2] * c[0][2];
+            const double sign = det < 0 ? -1.0 : 1.0;
+            double out[3];
+            for (int i = 0; i < 3; ++i) out[i] = sign * (c[i][0] * n.x + c[i][1] * n.y + c[i][2] * n.z);
+            const double len = std::sqrt(out[0] * out[0] + out[1] * out[1] + out[2] * out[2]);
+            if (!(len > 0.0) || !std::isfinite(len)) return {};
+            return {static_cast<float>(out[0] / len), static_cast<float>(out[1] / len), static_cast<float>(out[2] / len)};
+        }
     };
 
     Transform transform(const JsonValue* v) const {
@@ -312,6 +330,9 @@ private:
                     fail(fv.pos(), what + ": a vertex of " + quote_text(display) + " has a coordinate beyond 1e15; expected smaller coordinates");
                 p.push_back(tr.apply(x));
             }
+            std::vector<Vec3> normals;
+            normals.reserve(mesh.normals.size());
+            for (const Vec3& n : mesh.normals) normals.push_back(tr.apply_normal(n));
             std::size_t added = 0;
             for (const auto& t : mesh.triangles) {
                 Triangle tri{p[t[0]], p[t[1]], p[t[2]], m.material};
@@ -319,6 +340,18 @@ private:
                 if (tri.is_degenerate()) continue;  // zero-area faces are common in scanned meshes: never hit
                 if (!is_finite(tri.p0) || !is_finite(tri.p1) || !is_finite(tri.p2))
                     fail(fv.pos(), what + " has a vertex that is not finite after its transform; expected finite coordinates");
+                if (!mesh.normals.empty() || !mesh.uvs.empty()) {
+                    TriangleAttributes a;
+                    for (int k = 0; k < 3; ++k) {
+                        if (!normals.empty()) a.n[k] = normals[t[k]];
+                        if (!mesh.uvs.empty()) a.uv[k][0] = mesh.uvs[t[k]][0], a.uv[k][1] = mesh.uvs[t[k]][1];
+                    }
+                    // A vertex without a usable normal (zero length) leaves its triangles flat.
+                    a.has_normals = !normals.empty() && a.n[0] != Vec3{} && a.n[1] != Vec3{} && a.n[2] != Vec3{};
+                    a.has_uv = !mesh.uvs.empty();
+                    tri.attributes = static_cast<int>(m_scene.triangle_attributes.size());
+                    m_scene.triangle_attributes.push_back(a);
+                }
                 m_scene.triangles.push_back(tri);
                 ++added;
             }
