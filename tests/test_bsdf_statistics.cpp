@@ -691,9 +691,10 @@ TEST(BsdfEnergy, PerLobeMeanWeightsMatchAlbedoAndTotalAtMostOne) {
 TEST(BsdfLobeChoice, TopOfUnitIntervalNeverPicksAbsentLobe) {
     // u_lobe is at most 1 − 2⁻²⁴ (Rng::uniform). For a diffuse + mirror material (kt = 0) every
     // u_lobe must give the diffuse or the mirror lobe: a finite weight, a unit wi on wo's side.
-    // Regression for a rounding defect in sample_bsdf: with u = u_lobe·total, u −= w_d, the test
-    // u < w_s can fail by one rounding for u_lobe within a few ulps of 1, and the sample then
-    // falls into the transmission lobe of weight kt·(total/w_t) = 0·∞ = NaN with η = 0.
+    // Regression for a rounding defect in the lobe choice (LobeMixBsdf::sample): with
+    // u = u_lobe·total, u −= w_d, the test u < w_s can fail by one rounding for u_lobe within
+    // a few ulps of 1, and the sample then falls into the transmission lobe of weight
+    // kt·(total/w_t) = 0·∞ = NaN with η = 0.
     // kd 0.35 / ks 0.60 hits it at u_lobe = 1 − 2⁻²⁴; the grid sweep looks for others.
     Uniform rng(12);
     int checked = 0, bad = 0;
