@@ -18,8 +18,10 @@
 ///  sample(wo, n, λ, u, u1, u2, mode)
 ///                                a lobe, then a direction: {wi, weight = f·|cos θi|/density,
 ///                                pdf (as pdf(), 0 for a delta lobe), flags of the lobe,
-///                                eta_scale}; nullopt when the sample carries no energy. A
-///                                dispersive refraction terminates λ's companions.
+///                                eta_scale}; nullopt when no direction results (a degenerate
+///                                or absorbed sample). A dispersive refraction terminates λ's
+///                                companions. A black BSDF (flags().is_black(): no lobe) is
+///                                never sampled; integrators end paths there.
 #pragma once
 #include <optional>
 #include <variant>

@@ -1,0 +1,425 @@
+// Next-event estimation's light sampling (model/lights): for every light type, the sampled
+// directions follow the density sample_li returns (chi-square), that density is the one
+// pdf_li reports for a ray that finds the light (what MIS weights use), and the irradiance
+// estimated from the samples matches the analytic value. Each light stands alone in a scene
+// built here, so a ray from the reference point finds it through Scene::intersect, as in the
+// path tracer.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <optional>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "chi2.h"
+#include "core/frame.h"
+#include "scene/scene.h"
+
+namespace {
+
+using spt::LightSampleContext;
+using spt::Scene;
+using spt::ShapeKind;
+using spt::Vec3;
+constexpr double kPi = std::numbers::pi;
+
+spt::Spectrum constant(double v) { return spt::Spectrum(spt::SpectrumSource::constant(v), {}); }
+
+/// A scene with one black diffuse material and nothing else yet.
+Scene empty_scene() {
+    Scene scene;
+    spt::Material black;
+    black.name = "black";
+    black.bsdf = spt::DiffuseBsdf{};
+    scene.add_material(black);
+    return scene;
+}
+
+Scene sphere_light_scene(Vec3 center, float radius, double le) {
+    Scene scene = empty_scene();
+    spt::Sphere s{center, radius, 0};
+    s.light = scene.add_emitter(ShapeKind::sphere, constant(le));
+    scene.spheres.push_back(s);
+    scene.finalize();
+    return scene;
+}
+
+/// A parallelogram o, o + e1, o + e1 + e2, o + e2 as two triangles of one light.
+Scene quad_light_scene(Vec3 o, Vec3 e1, Vec3 e2, double le) {
+    Scene scene = empty_scene();
+    const int light = scene.add_emitter(ShapeKind::triangle, constant(le));
+    spt::Triangle a{o, o + e1, o + e1 + e2, 0}, b{o, o + e1 + e2, o + e2, 0};
+    a.light = b.light = light;
+    scene.triangles.push_back(a);
+    scene.triangles.push_back(b);
+    scene.finalize();
+    return scene;
+}
+
+Scene plane_light_scene(Vec3 normal, float offset, double le) {
+    Scene scene = empty_scene();
+    spt::Plane p{normal, offset, 0};
+    p.light = scene.add_emitter(ShapeKind::plane, constant(le));
+    scene.planes.push_back(p);
+    scene.finalize();
+    return scene;
+}
+
+Scene environment_scene(double le) {
+    Scene scene = empty_scene();
+    scene.set_background(constant(le));
+    scene.finalize();
+    return scene;
+}
+
+LightSampleContext context(Vec3 p, Vec3 n, bool both_sides = false) { return {p, {0, 0, 0}, n, n, both_sides}; }
+
+spt::SampledWavelengths wavelengths() { return spt::SampledWavelengths::sample(0.37f); }
+
+/// pdf_li of light `k` for the ray from ctx.p along d, found through the scene as the path
+/// tracer finds it (0 when the ray misses the light).
+double pdf_along(const Scene& scene, int k, const LightSampleContext& ctx, const Vec3& d) {
+    const std::optional<spt::Hit> hit = scene.intersect({ctx.p, d, spt::kInfinity});
+    if (hit && hit->light != k) return 0.0;
+    if (!hit && k != scene.environment_index) return 0.0;
+    return spt::light_pdf_li(scene.lights[k], ctx, d, hit ? &*hit : nullptr);
+}
+
+/// Chi-square test of sample_li's directions against pdf_li over a cone of directions about
+/// `axis` (cos θ ≥ cos_max; −1: the whole sphere), in n_theta × n_phi cells equal in solid
+/// angle, each cell's expected count integrated from pdf_li on a 6 × 6 grid of sub-cells.
+/// Samples outside the cone land in one more cell whose expected count is the rest.
+struct DirectionTest {
+    spt_test::Chi2Result chi2;
+    double max_pdf_mismatch = 0;  ///< largest |ls.pdf / pdf_li − 1| over the samples
+    int samples = 0;
+};
+
+DirectionTest direction_test(const Scene& scene, int k, const LightSampleContext& ctx, const Vec3& axis,
+                             double cos_max, int n, std::uint64_t seed) {
+    constexpr int kTheta = 12, kPhi = 12, kSub = 6;
+    const spt::Frame frame(axis);
+    auto direction = [&](double c, double phi) {
+        const double s = std::sqrt(std::max(0.0, 1.0 - c * c));
+        return spt::normalize(frame.to_world({float(s * std::cos(phi)), float(s * std::sin(phi)), float(c)}));
+    };
+    std::vector<double> expected(kTheta * kPhi + 1, 0.0), observed(kTheta * kPhi + 1, 0.0);
+    const double dc = (1.0 - cos_max) / kTheta, dphi = 2 * kPi / kPhi;
+    double inside = 0;
+    for (int i = 0; i < kTheta; ++i)
+        for (int j = 0; j < kPhi; ++j) {
+            double sum = 0;
+            for (int a = 0; a < kSub; ++a)
+                for (int b = 0; b < kSub; ++b) {
+                    const double c = cos_max + dc * (i + (a + 0.5) / kSub);
+                    const double phi = dphi * (j + (b + 0.5) / kSub);
+                    sum += pdf_along(scene, k, ctx, direction(c, phi));
+                }
+            const double p = sum / (kSub * kSub) * dc * dphi;  // ∫ pdf dω over the cell
+            expected[i * kPhi + j] = p * n;
+            inside += p;
+        }
+    expected.back() = std::max(0.0, 1.0 - inside) * n;
+
+    DirectionTest result;
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<float> u(0.f, 1.f);
+    const spt::SampledWavelengths lambda = wavelengths();
+    for (int s = 0; s < n; ++s) {
+        const auto ls = spt::light_sample_li(scene.lights[k], ctx, lambda, u(rng), u(rng));
+        if (!ls) {
+            observed.back() += 1;  // no direction: counted with the outside
+            continue;
+        }
+        ++result.samples;
+        const double ref = pdf_along(scene, k, ctx, ls->wi);
+        if (ref > 0) result.max_pdf_mismatch = std::max(result.max_pdf_mismatch, std::fabs(ls->pdf / ref - 1.0));
+        else result.max_pdf_mismatch = std::max(result.max_pdf_mismatch, 1.0);
+        const Vec3 local = frame.to_local(ls->wi);
+        const double c = std::clamp(double(local.z), -1.0, 1.0);
+        if (c < cos_max) {
+            observed.back() += 1;
+            continue;
+        }
+        double phi = std::atan2(double(local.y), double(local.x));
+        if (phi < 0) phi += 2 * kPi;
+        const int i = std::min(kTheta - 1, int((c - cos_max) / dc));
+        const int j = std::min(kPhi - 1, int(phi / dphi));
+        observed[i * kPhi + j] += 1;
+    }
+    result.chi2 = spt_test::chi2_test(observed, expected);
+    return result;
+}
+
+/// The significance of each chi-square test: with about 15 tests in this file, a false alarm
+/// in any of them stays below 1.5e-4.
+constexpr double kAlpha = 1e-5;
+
+void expect_directions_follow_pdf(const Scene& scene, int k, const LightSampleContext& ctx, const Vec3& axis,
+                                  double cos_max, const std::string& what, double pdf_tolerance = 2e-3) {
+    const DirectionTest t = direction_test(scene, k, ctx, axis, cos_max, 200000, 12345);
+    EXPECT_GT(t.chi2.p_value, kAlpha) << what << ": X² = " << t.chi2.statistic << " dof " << t.chi2.dof;
+    EXPECT_EQ(t.chi2.observed_in_empty, 0) << what << ": samples where pdf_li is 0";
+    // The returned density is the one pdf_li gives (float rounding of the two computations).
+    EXPECT_LT(t.max_pdf_mismatch, pdf_tolerance) << what;
+    EXPECT_GT(t.samples, 190000) << what;
+}
+
+/// Irradiance at ctx from light k, estimated as the mean of L·max(0, cos θ)/pdf over samples
+/// (nothing occludes in these scenes), with its standard error.
+struct Estimate {
+    double mean, stderr_;
+};
+Estimate irradiance(const Scene& scene, int k, const LightSampleContext& ctx, int n, std::uint64_t seed) {
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<float> u(0.f, 1.f);
+    const spt::SampledWavelengths lambda = wavelengths();
+    double sum = 0, sum2 = 0;
+    for (int s = 0; s < n; ++s) {
+        double x = 0;
+        if (const auto ls = spt::light_sample_li(scene.lights[k], ctx, lambda, u(rng), u(rng)))
+            x = ls->L[0] * std::max(0.f, spt::dot(ls->wi, ctx.ns)) / ls->pdf;
+        sum += x, sum2 += x * x;
+    }
+    const double mean = sum / n;
+    return {mean, std::sqrt(std::max(0.0, sum2 / n - mean * mean) / n)};
+}
+
+void expect_irradiance(const Estimate& e, double analytic, const std::string& what) {
+    // 5 standard errors, plus float rounding of the samples (1e-5 relative).
+    EXPECT_NEAR(e.mean, analytic, 5 * e.stderr_ + 1e-5 * analytic) << what << " (stderr " << e.stderr_ << ")";
+}
+
+// ---------------------------- Sphere: the cone it subtends ----------------------------
+
+TEST(SphereLight, DirectionsFollowTheConeDensity) {
+    const Vec3 c(0.3f, 2.f, -0.4f);
+    const float r = 0.5f;
+    const Scene scene = sphere_light_scene(c, r, 2.0);
+    const Vec3 p(0, 0, 0);
+    const Vec3 axis = spt::normalize(c - p);
+    const double d = spt::length(c - p);
+    const double cos_cone = std::sqrt(1 - (r / d) * (r / d));
+    // Cells over a cone a little wider than the sphere's, so the rim is inside.
+    expect_directions_follow_pdf(scene, 0, context(p, {0, 1, 0}), axis, cos_cone - 0.01, "outside");
+}
+
+TEST(SphereLight, SmallAndFarSphereKeepsItsDensity) {
+    // sin²θmax = 1e-8: 1 − cos θmax would cancel to 0 in float without the small-angle form.
+    const Vec3 c(0, 1e4f, 0);
+    const Scene scene = sphere_light_scene(c, 1.f, 1.0);
+    const LightSampleContext ctx = context({0, 0, 0}, {0, 1, 0});
+    const spt::SphereLight& light = std::get<spt::SphereLight>(scene.lights[0]);
+    const auto ls = light.sample_li(ctx, wavelengths(), 0.5f, 0.25f);
+    ASSERT_TRUE(ls.has_value());
+    const double solid_angle = 2 * kPi * (1 - std::sqrt(1 - 1e-8));
+    EXPECT_NEAR(ls->pdf * solid_angle, 1.0, 1e-4);
+    EXPECT_GT(ls->wi.y, 0.9999f);
+}
+
+TEST(SphereLight, FromInsideSamplesTheArea) {
+    const Scene scene = sphere_light_scene({0, 0, 0}, 1.f, 1.0);
+    const LightSampleContext ctx = context({0.2f, -0.3f, 0.1f}, {0, 1, 0});
+    // Every direction reaches the sphere: the whole sphere of directions.
+    expect_directions_follow_pdf(scene, 0, ctx, {0, 1, 0}, -1.0, "inside", 5e-3);
+}
+
+TEST(SphereLight, IrradianceMatchesAnalytic) {
+    // Facing the centre at distance d: E = π·L·sin²θmax = π·L·r²/d² (all above the horizon).
+    const float r = 0.08f, d = 1.5f;
+    const double le = 149.2;
+    const Scene scene = sphere_light_scene({0, d, 0}, r, le);
+    const Estimate e = irradiance(scene, 0, context({0, 0, 0}, {0, 1, 0}), 100000, 7);
+    expect_irradiance(e, kPi * le * r * r / (d * d), "sphere r = 0.08 at 1.5");
+}
+
+// ---------------------------- Quad: its area ----------------------------
+
+/// Chi-square of the points sample_li reaches on a parallelogram light o + s·e1 + t·e2 in
+/// cells of (s, t), against pdf_li integrated over each cell through the change of measure
+/// dω = |cos θ_light| dA / r² (cells in the light's own coordinates have no edge inside them,
+/// unlike cells of directions). A wrong solid-angle conversion in pdf_li, or a sampler that
+/// is not uniform by area, fails it.
+spt_test::Chi2Result parallelogram_test(const Scene& scene, int k, const LightSampleContext& ctx, Vec3 o, Vec3 e1,
+                                        Vec3 e2, int n, std::uint64_t seed) {
+    constexpr int kCells = 12, kSub = 4;
+    const Vec3 cross_e = spt::cross(e1, e2);
+    const double area = spt::length(cross_e);
+    const Vec3 normal = cross_e / float(area);
+    std::vector<double> expected(kCells * kCells, 0.0), observed(kCells * kCells, 0.0);
+    for (int i = 0; i < kCells; ++i)
+        for (int j = 0; j < kCells; ++j) {
+            double sum = 0;
+            for (int a = 0; a < kSub; ++a)
+                for (int b = 0; b < kSub; ++b) {
+                    const float si = float((i + (a + 0.5) / kSub) / kCells), tj = float((j + (b + 0.5) / kSub) / kCells);
+                    const Vec3 x = o + e1 * si + e2 * tj;
+                    const Vec3 d = x - ctx.p;
+                    const double r2 = spt::length_squared(d);
+                    const Vec3 w = d / std::sqrt(float(r2));
+                    sum += pdf_along(scene, k, ctx, w) * std::fabs(spt::dot(normal, w)) / r2;
+                }
+            expected[i * kCells + j] = sum / (kSub * kSub) * area / (kCells * kCells) * n;
+        }
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<float> u(0.f, 1.f);
+    // (s, t) of a point: solve x − o = s·e1 + t·e2 in the plane (Cramer with e1 × e2).
+    for (int i = 0; i < n; ++i) {
+        const auto ls = spt::light_sample_li(scene.lights[k], ctx, wavelengths(), u(rng), u(rng));
+        if (!ls) continue;
+        const Vec3 q = ls->p - o;
+        const double st_s = spt::dot(spt::cross(q, e2), cross_e) / (area * area);
+        const double st_t = spt::dot(spt::cross(e1, q), cross_e) / (area * area);
+        const int ci = std::clamp(int(st_s * kCells), 0, kCells - 1), cj = std::clamp(int(st_t * kCells), 0, kCells - 1);
+        observed[ci * kCells + cj] += 1;
+    }
+    return spt_test::chi2_test(observed, expected);
+}
+
+TEST(TriangleMeshLight, QuadPointsFollowTheSolidAngleDensity) {
+    const Vec3 o(-0.25f, 1.f, -0.25f), e1(0.5f, 0, 0), e2(0, 0, 0.5f);
+    const Scene scene = quad_light_scene(o, e1, e2, 1.0);
+    const LightSampleContext ctx = context({0.1f, 0, 0.05f}, {0, 1, 0});
+    const spt_test::Chi2Result r = parallelogram_test(scene, 0, ctx, o, e1, e2, 200000, 21);
+    EXPECT_GT(r.p_value, kAlpha) << "X² = " << r.statistic << " dof " << r.dof;
+    // And each sample's density is pdf_li's for its direction.
+    const DirectionTest t = direction_test(scene, 0, ctx, {0, 1, 0}, 0.0, 20000, 22);
+    EXPECT_LT(t.max_pdf_mismatch, 2e-3);
+}
+
+TEST(TriangleMeshLight, UnequalTrianglesAreChosenByArea) {
+    // A mesh light of one large and one small triangle: a triangle in proportion to its area
+    // (chi-square of the counts), then a uniform point on it (its barycentrics mapped back
+    // through the square-root warp are uniform on the unit square: cells of equal count).
+    Scene scene = empty_scene();
+    const int light = scene.add_emitter(ShapeKind::triangle, constant(1.0));
+    spt::Triangle big{{-1, 1, -1}, {1, 1, -1}, {-1, 1, 1}, 0}, small{{1, 1, 1}, {1.2f, 1, 1}, {1, 1, 1.2f}, 0};
+    big.light = small.light = light;
+    scene.triangles = {big, small};
+    scene.finalize();
+    const LightSampleContext ctx = context({0, 0, 0}, {0, 1, 0});
+    constexpr int kN = 100000, kCells = 6;
+    std::vector<double> observed(2 * kCells * kCells, 0.0), expected(2 * kCells * kCells, 0.0);
+    const double a_big = 2.0, a_small = 0.02;
+    for (int c = 0; c < kCells * kCells; ++c) {
+        expected[c] = kN * a_big / (a_big + a_small) / (kCells * kCells);
+        expected[kCells * kCells + c] = kN * a_small / (a_big + a_small) / (kCells * kCells);
+    }
+    std::mt19937_64 rng(23);
+    std::uniform_real_distribution<float> u(0.f, 1.f);
+    for (int i = 0; i < kN; ++i) {
+        const auto ls = spt::light_sample_li(scene.lights[0], ctx, wavelengths(), u(rng), u(rng));
+        ASSERT_TRUE(ls.has_value());
+        const bool on_small = ls->p.x >= 0.999f && ls->p.z >= 0.999f;
+        const spt::Triangle& t = on_small ? small : big;
+        // Barycentrics of p (b1 along p1 − p0, b2 along p2 − p0), then the inverse warp.
+        const Vec3 e1 = t.p1 - t.p0, e2 = t.p2 - t.p0, q = ls->p - t.p0, cr = spt::cross(e1, e2);
+        const double b1 = spt::dot(spt::cross(q, e2), cr) / spt::length_squared(cr);
+        const double b2 = spt::dot(spt::cross(e1, q), cr) / spt::length_squared(cr);
+        const double b0 = 1 - b1 - b2, su = 1 - b0;
+        const double w1 = su * su, w2 = su > 0 ? b1 / su : 0;
+        const int ci = std::clamp(int(w1 * kCells), 0, kCells - 1), cj = std::clamp(int(w2 * kCells), 0, kCells - 1);
+        observed[(on_small ? kCells * kCells : 0) + ci * kCells + cj] += 1;
+    }
+    const spt_test::Chi2Result r = spt_test::chi2_test(observed, expected);
+    EXPECT_GT(r.p_value, kAlpha) << "X² = " << r.statistic << " dof " << r.dof;
+}
+
+/// Form factor from a differential area to a parallel rectangle a × b at height c with one
+/// corner above it (Howell's catalogue, B-3).
+double corner_form_factor(double a, double b, double c) {
+    const double x = a / c, y = b / c;
+    return (x / std::sqrt(1 + x * x) * std::atan(y / std::sqrt(1 + x * x)) +
+            y / std::sqrt(1 + y * y) * std::atan(x / std::sqrt(1 + y * y))) /
+           (2 * kPi);
+}
+
+TEST(TriangleMeshLight, QuadIrradianceMatchesAnalytic) {
+    // A 0.5 × 0.5 quad 1.98 above the point, centred: four corner rectangles of 0.25 × 0.25.
+    const double le = 24.0, h = 1.98;
+    const Scene scene = quad_light_scene({-0.25f, float(h), -0.25f}, {0.5f, 0, 0}, {0, 0, 0.5f}, le);
+    const Estimate e = irradiance(scene, 0, context({0, 0, 0}, {0, 1, 0}), 100000, 8);
+    expect_irradiance(e, kPi * le * 4 * corner_form_factor(0.25, 0.25, h), "quad 0.5 at 1.98");
+}
+
+// ---------------------------- Infinite plane: the half-space that sees it ----------------------------
+
+TEST(PlaneLight, DirectionsFollowTheCosineAboutItsNormal) {
+    const Scene scene = plane_light_scene({0, -1, 0}, -1.f, 1.0);  // y = 1, facing down
+    const LightSampleContext ctx = context({0.3f, -0.7f, 0.2f}, {1, 0, 0});
+    expect_directions_follow_pdf(scene, 0, ctx, {0, 1, 0}, 0.0, "plane");
+}
+
+TEST(PlaneLight, IrradianceOfTiltedSurfacesMatchesViewFactor) {
+    // A surface tilted by α from facing the plane sees the fraction (1 + cos α)/2 of it:
+    // E = π·L·(1 + cos α)/2 (α = 0: π·L, the plane fills the hemisphere).
+    const double le = 4.0;
+    const Scene scene = plane_light_scene({0, 1, 0}, 2.f, le);  // y = 2
+    for (double alpha_deg : {0.0, 40.0, 90.0, 135.0}) {
+        const double a = alpha_deg * kPi / 180;
+        const Vec3 n(float(std::sin(a)), float(std::cos(a)), 0.f);
+        const Estimate e = irradiance(scene, 0, context({0, 0, 0}, spt::normalize(n)), 100000, 9);
+        expect_irradiance(e, kPi * le * (1 + std::cos(a)) / 2, "tilt " + std::to_string(alpha_deg));
+    }
+}
+
+// ---------------------------- Environment: cosine, or uniform where both sides matter ----------------------------
+
+TEST(EnvironmentLight, CosineAboutTheShadingNormal) {
+    const Scene scene = environment_scene(1.0);
+    const Vec3 n = spt::normalize(Vec3(0.2f, 0.9f, -0.3f));
+    expect_directions_follow_pdf(scene, scene.environment_index, context({0, 0, 0}, n), n, 0.0, "cosine");
+}
+
+TEST(EnvironmentLight, UniformWhenBothSidesMatter) {
+    const Scene scene = environment_scene(1.0);
+    expect_directions_follow_pdf(scene, scene.environment_index, context({0, 0, 0}, {0, 1, 0}, true), {0, 1, 0}, -1.0,
+                                 "uniform");
+}
+
+TEST(EnvironmentLight, IrradianceIsPiL) {
+    const double le = 0.7;
+    const Scene scene = environment_scene(le);
+    const Estimate e = irradiance(scene, scene.environment_index, context({0, 0, 0}, {0, 0, 1}), 20000, 10);
+    // Cosine sampling of a constant environment is exact: every sample is π·L.
+    EXPECT_NEAR(e.mean, kPi * le, 1e-5);
+    EXPECT_LT(e.stderr_, 1e-5);
+}
+
+// ---------------------------- The light list ----------------------------
+
+TEST(LightList, LightsAreChosenInProportionToPower) {
+    // Two spheres of radiance 1 and 3 and equal size, a point light and an emitting plane:
+    // next-event estimation chooses among the spheres (point lights are all sampled, planes
+    // by default not) with probabilities 1/4 and 3/4.
+    Scene scene = empty_scene();
+    spt::Sphere a{{-2, 0, 0}, 0.5f, 0}, b{{2, 0, 0}, 0.5f, 0};
+    a.light = scene.add_emitter(ShapeKind::sphere, constant(1.0));
+    b.light = scene.add_emitter(ShapeKind::sphere, constant(3.0));
+    scene.spheres = {a, b};
+    scene.add_point_light({0, 3, 0}, constant(5.0));
+    spt::Plane p{{0, -1, 0}, -10.f, 0};
+    p.light = scene.add_emitter(ShapeKind::plane, constant(1.0));
+    scene.planes.push_back(p);
+    scene.finalize();
+    EXPECT_EQ(scene.point_light_indices, std::vector<int>{2});
+    EXPECT_NEAR(scene.area_light_choice.probability(a.light), 0.25, 1e-6);
+    EXPECT_NEAR(scene.area_light_choice.probability(b.light), 0.75, 1e-6);
+    EXPECT_EQ(scene.area_light_choice.probability(p.light), 0.f);
+    EXPECT_GT(scene.area_light_choice_with_planes.probability(p.light), 0.f);
+    float prob = 0.f;
+    EXPECT_EQ(scene.area_light_choice.sample(0.2f, prob), a.light);
+    EXPECT_EQ(scene.area_light_choice.sample(0.3f, prob), b.light);
+    EXPECT_NEAR(prob, 0.75, 1e-6);
+}
+
+TEST(LightList, EmitterNotAttachedToAShapeIsRejected) {
+    Scene scene = empty_scene();
+    scene.add_emitter(ShapeKind::sphere, constant(1.0));
+    scene.spheres.push_back({{0, 0, 0}, 1.f, 0});  // light −1: the emitter belongs to nothing
+    EXPECT_THROW(scene.finalize(), spt::SceneError);
+}
+
+}  // namespace
