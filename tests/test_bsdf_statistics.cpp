@@ -27,6 +27,7 @@
 #include <vector>
 
 #include "chi2.h"
+#include "test_scenes.h"
 #include "model/bsdfs/bsdf.h"
 #include "model/bsdfs/fresnel.h"
 #include "model/material.h"
@@ -79,18 +80,6 @@ spt::Material make_material(const char* name, spt::Spectrum kd, spt::Spectrum ks
     return m;
 }
 
-/// The lobe parameters of a material from make_material (a DiffuseBsdf: kd alone, η 1.5).
-spt::LobeMixBsdf lobes(const spt::Material& m) {
-    if (const spt::DiffuseBsdf* d = std::get_if<spt::DiffuseBsdf>(&m.bsdf))
-        return spt::LobeMixBsdf{d->kd, constant(0.0), constant(0.0), constant(1.5)};
-    return std::get<spt::LobeMixBsdf>(m.bsdf);
-}
-
-/// Samples the material's BSDF for radiance (camera paths), as the path tracer does.
-std::optional<spt::BsdfSample> sample_bsdf(const spt::Material& m, const spt::Vec3& wo, const spt::Vec3& n,
-                                           spt::SampledWavelengths& lambda, float u_lobe, float u1, float u2) {
-    return spt::bsdf_sample(m.bsdf, wo, n, lambda, u_lobe, u1, u2, spt::TransportMode::radiance);
-}
 
 spt::SpectrumSource bk7() {
     return spt::SpectrumSource::sellmeier(1.03961212, 0.231792344, 1.01046945, 0.00600069867, 0.0200179144,
@@ -159,7 +148,7 @@ struct LobeModel {
 
     LobeModel(const spt::Material& material, const spt::Vec3& wo, const spt::Vec3& n,
               const spt::SampledWavelengths& l) {
-        const spt::LobeMixBsdf m = lobes(material);
+        const spt::LobeMixBsdf m = spt::test::lobes_of(material);
         const bool live = !l.secondary_terminated();
         auto value = [&](const spt::Spectrum& s, int k) { return s.source().eval(l.lambda[k]); };
         auto mean = [&](const spt::Spectrum& s) {
@@ -252,7 +241,7 @@ OutcomeCounts sample_outcomes(const spt::Material& m, const spt::Vec3& wo, const
     for (int i = 0; i < n_samples; ++i) {
         spt::SampledWavelengths lambda = base;
         const float u_lobe = rng.next_float(), u1 = rng.next_float(), u2 = rng.next_float();
-        const std::optional<spt::BsdfSample> bs = sample_bsdf(m, wo, n, lambda, u_lobe, u1, u2);
+        const std::optional<spt::BsdfSample> bs = spt::test::sample_radiance(m, wo, n, lambda, u_lobe, u1, u2);
         if (!bs) {
             ++c.dropped;
             continue;
@@ -355,8 +344,8 @@ TEST(BsdfLobeChoice, HeroOnlyAfterCompanionsTerminated) {
         lambda.terminate_secondary();
         const spt::Vec3 wo = direction_about(j % 2 ? -kNormal : kNormal, 10.0 + 12.0 * j, 0.7 * j);
         const LobeModel model(m, wo, kNormal, lambda);
-        const double hero_p = lobes(m).kd.source().eval(lambda.lambda[0]) /
-                              (lobes(m).kd.source().eval(lambda.lambda[0]) + 0.15);
+        const double hero_p = spt::test::lobes_of(m).kd.source().eval(lambda.lambda[0]) /
+                              (spt::test::lobes_of(m).kd.source().eval(lambda.lambda[0]) + 0.15);
         EXPECT_NEAR(model.prob[kDiffuse], hero_p, 1e-12);
         const OutcomeCounts oc = sample_outcomes(m, wo, kNormal, lambda, 40000, rng, false);
         EXPECT_EQ(oc.unclassified, 0) << oc.first_problem;
@@ -461,7 +450,7 @@ TEST(DispersiveGlass, ReflectionProbabilityIsHeroFresnel) {
             for (int i = 0; i < 40000; ++i) {
                 spt::SampledWavelengths lambda = base;
                 const std::optional<spt::BsdfSample> bs =
-                    sample_bsdf(m, wo, kNormal, lambda, rng.next_float(), rng.next_float(), rng.next_float());
+                    spt::test::sample_radiance(m, wo, kNormal, lambda, rng.next_float(), rng.next_float(), rng.next_float());
                 ASSERT_TRUE(bs.has_value());
                 const Outcome o = model.classify(wo, kNormal, *bs, false);
                 if (o == kFresnelReflect) {
@@ -521,7 +510,7 @@ TEST(Reciprocity, LambertianSymmetricAndZeroAcrossSides) {
                 ++same;
                 for (int k = 0; k < K; ++k) {
                     const double f_ab = a[k] / std::fabs(ci), f_ba = b[k] / std::fabs(co);
-                    const double kd_pi = lobes(m).kd.source().eval(lambda.lambda[k]) / kPiD;
+                    const double kd_pi = spt::test::lobes_of(m).kd.source().eval(lambda.lambda[k]) / kPiD;
                     ASSERT_NEAR(f_ab, f_ba, 1e-6 * f_ab) << m.name;
                     ASSERT_NEAR(f_ab, kd_pi, 1e-6 * kd_pi) << m.name;
                     ASSERT_NEAR(fa[k], fb[k], 1e-6 * fa[k]) << m.name;
@@ -546,7 +535,7 @@ std::optional<spt::BsdfSample> sample_until(const spt::Material& m, const spt::V
     for (int t = 0; t < 10000; ++t) {
         spt::SampledWavelengths lambda = base;
         std::optional<spt::BsdfSample> bs =
-            sample_bsdf(m, wo, n, lambda, rng.next_float(), rng.next_float(), rng.next_float());
+            spt::test::sample_radiance(m, wo, n, lambda, rng.next_float(), rng.next_float(), rng.next_float());
         if (!bs || !bs->is_delta()) continue;
         if ((spt::dot(bs->wi, n) * spt::dot(wo, n) < 0.f) == transmitted) return bs;
     }
@@ -575,7 +564,7 @@ TEST(Reciprocity, SpecularTransmissionAndReflection) {
     };
     Uniform rng(7);
     for (const Case& c : cases) {
-        const double eta = lobes(c.m).eta.eval(550.f);
+        const double eta = spt::test::lobes_of(c.m).eta.eval(550.f);
         for (int i = 0; i < 400; ++i) {
             const spt::Vec3 n = random_direction(rng);
             const double theta = 88.0 * std::sqrt(rng.next_double());
@@ -640,7 +629,7 @@ TEST(BsdfEnergy, PerLobeMeanWeightsMatchAlbedoAndTotalAtMostOne) {
             for (int i = 0; i < kSamples; ++i) {
                 spt::SampledWavelengths lambda = base;
                 const std::optional<spt::BsdfSample> bs =
-                    sample_bsdf(m, wo, kNormal, lambda, rng.next_float(), rng.next_float(), rng.next_float());
+                    spt::test::sample_radiance(m, wo, kNormal, lambda, rng.next_float(), rng.next_float(), rng.next_float());
                 if (!bs) continue;  // absorbed: weight 0 in every lobe
                 const Outcome o = model.classify(wo, kNormal, *bs, true);
                 if (o == kUnclassified) {
@@ -657,7 +646,7 @@ TEST(BsdfEnergy, PerLobeMeanWeightsMatchAlbedoAndTotalAtMostOne) {
             EXPECT_EQ(unclassified, 0) << m.name;
             for (int k = 0; k < K; ++k) {
                 const double l = base.lambda[k];
-                const spt::LobeMixBsdf p = lobes(m);
+                const spt::LobeMixBsdf p = spt::test::lobes_of(m);
                 const double kd = p.kd.source().eval(l), ks = p.ks.source().eval(l), kt = p.kt.source().eval(l);
                 const double f = model.dispersive ? model.fresnel[k] : model.fresnel[0];
                 const bool cut = model.dispersive && k > 0;
@@ -707,7 +696,7 @@ TEST(BsdfLobeChoice, TopOfUnitIntervalNeverPicksAbsentLobe) {
                 const spt::Vec3 wo = direction_about(j % 2 ? kNormal : -kNormal, 80.0 * rng.next_double(), 6.0 * rng.next_double());
                 spt::SampledWavelengths lambda = spt::SampledWavelengths::sample(rng.next_float());
                 const std::optional<spt::BsdfSample> bs =
-                    sample_bsdf(m, wo, kNormal, lambda, u_lobe, rng.next_float(), rng.next_float());
+                    spt::test::sample_radiance(m, wo, kNormal, lambda, u_lobe, rng.next_float(), rng.next_float());
                 ++checked;
                 const bool ok = bs && spt::is_finite(bs->wi) && std::fabs(spt::length(bs->wi) - 1.f) < 1e-5f &&
                                 spt::dot(bs->wi, kNormal) * spt::dot(wo, kNormal) > 0.f &&
@@ -749,7 +738,7 @@ TEST(BsdfNegativeControl, RejectsHeroOnlyLobeChooser) {
     CombinedChi2 combined;
     for (const PlasticCase& c : plastic_cases()) {
         const LobeModel model(m, c.wo, kNormal, c.lambda);
-        const double kd0 = lobes(m).kd.source().eval(c.lambda.lambda[0]);
+        const double kd0 = spt::test::lobes_of(m).kd.source().eval(c.lambda.lambda[0]);
         const double p_buggy = kd0 / (kd0 + 0.15);
         std::vector<double> counts(kOutcomes, 0.0);
         for (int i = 0; i < 40000; ++i) counts[rng.next_double() < p_buggy ? kDiffuse : kMirror] += 1.0;

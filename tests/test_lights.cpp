@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "chi2.h"
-#include "core/frame.h"
+#include "cone_histogram.h"
 #include "scene/scene.h"
 
 namespace {
@@ -88,9 +88,7 @@ double pdf_along(const Scene& scene, int k, const LightSampleContext& ctx, const
 }
 
 /// Chi-square test of sample_li's directions against pdf_li over a cone of directions about
-/// `axis` (cos θ ≥ cos_max; −1: the whole sphere), in n_theta × n_phi cells equal in solid
-/// angle, each cell's expected count integrated from pdf_li on a 6 × 6 grid of sub-cells.
-/// Samples outside the cone land in one more cell whose expected count is the rest.
+/// `axis` (cos θ ≥ cos_max; −1: the whole sphere), in 12 × 12 cells equal in solid angle.
 struct DirectionTest {
     spt_test::Chi2Result chi2;
     double max_pdf_mismatch = 0;  ///< largest |ls.pdf / pdf_li − 1| over the samples
@@ -99,30 +97,9 @@ struct DirectionTest {
 
 DirectionTest direction_test(const Scene& scene, int k, const LightSampleContext& ctx, const Vec3& axis,
                              double cos_max, int n, std::uint64_t seed) {
-    constexpr int kTheta = 12, kPhi = 12, kSub = 6;
-    const spt::Frame frame(axis);
-    auto direction = [&](double c, double phi) {
-        const double s = std::sqrt(std::max(0.0, 1.0 - c * c));
-        return spt::normalize(frame.to_world({float(s * std::cos(phi)), float(s * std::sin(phi)), float(c)}));
-    };
-    std::vector<double> expected(kTheta * kPhi + 1, 0.0), observed(kTheta * kPhi + 1, 0.0);
-    const double dc = (1.0 - cos_max) / kTheta, dphi = 2 * kPi / kPhi;
-    double inside = 0;
-    for (int i = 0; i < kTheta; ++i)
-        for (int j = 0; j < kPhi; ++j) {
-            double sum = 0;
-            for (int a = 0; a < kSub; ++a)
-                for (int b = 0; b < kSub; ++b) {
-                    const double c = cos_max + dc * (i + (a + 0.5) / kSub);
-                    const double phi = dphi * (j + (b + 0.5) / kSub);
-                    sum += pdf_along(scene, k, ctx, direction(c, phi));
-                }
-            const double p = sum / (kSub * kSub) * dc * dphi;  // ∫ pdf dω over the cell
-            expected[i * kPhi + j] = p * n;
-            inside += p;
-        }
-    expected.back() = std::max(0.0, 1.0 - inside) * n;
-
+    spt_test::ConeHistogram histogram(axis, cos_max, 12, 12);
+    const std::vector<double> expected =
+        histogram.expected([&](const Vec3& d) { return pdf_along(scene, k, ctx, d); }, n, 6);
     DirectionTest result;
     std::mt19937_64 rng(seed);
     std::uniform_real_distribution<float> u(0.f, 1.f);
@@ -130,26 +107,16 @@ DirectionTest direction_test(const Scene& scene, int k, const LightSampleContext
     for (int s = 0; s < n; ++s) {
         const auto ls = spt::light_sample_li(scene.lights[k], ctx, lambda, u(rng), u(rng));
         if (!ls) {
-            observed.back() += 1;  // no direction: counted with the outside
+            histogram.add_outside();  // no direction: counted with the outside
             continue;
         }
         ++result.samples;
         const double ref = pdf_along(scene, k, ctx, ls->wi);
-        if (ref > 0) result.max_pdf_mismatch = std::max(result.max_pdf_mismatch, std::fabs(ls->pdf / ref - 1.0));
-        else result.max_pdf_mismatch = std::max(result.max_pdf_mismatch, 1.0);
-        const Vec3 local = frame.to_local(ls->wi);
-        const double c = std::clamp(double(local.z), -1.0, 1.0);
-        if (c < cos_max) {
-            observed.back() += 1;
-            continue;
-        }
-        double phi = std::atan2(double(local.y), double(local.x));
-        if (phi < 0) phi += 2 * kPi;
-        const int i = std::min(kTheta - 1, int((c - cos_max) / dc));
-        const int j = std::min(kPhi - 1, int(phi / dphi));
-        observed[i * kPhi + j] += 1;
+        result.max_pdf_mismatch =
+            std::max(result.max_pdf_mismatch, ref > 0 ? std::fabs(ls->pdf / ref - 1.0) : 1.0);
+        histogram.add(ls->wi);
     }
-    result.chi2 = spt_test::chi2_test(observed, expected);
+    result.chi2 = spt_test::chi2_test(histogram.observed(), expected);
     return result;
 }
 

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "chi2.h"
+#include "test_scenes.h"
 #include "core/sampling.h"
 #include "model/bsdfs/bsdf.h"
 #include "model/bsdfs/fresnel.h"
@@ -58,18 +59,6 @@ spt::Material make_material(const char* name, spt::Spectrum kd, spt::Spectrum ks
     return m;
 }
 
-/// The lobe parameters of a material from make_material (a DiffuseBsdf: kd alone, η 1.5).
-spt::LobeMixBsdf lobes(const spt::Material& m) {
-    if (const spt::DiffuseBsdf* d = std::get_if<spt::DiffuseBsdf>(&m.bsdf))
-        return spt::LobeMixBsdf{d->kd, constant(0.0), constant(0.0), constant(1.5)};
-    return std::get<spt::LobeMixBsdf>(m.bsdf);
-}
-
-/// Samples the material's BSDF for radiance (camera paths), as the path tracer does.
-std::optional<spt::BsdfSample> sample_bsdf(const spt::Material& m, const spt::Vec3& wo, const spt::Vec3& n,
-                                           spt::SampledWavelengths& lambda, float u_lobe, float u1, float u2) {
-    return spt::bsdf_sample(m.bsdf, wo, n, lambda, u_lobe, u1, u2, spt::TransportMode::radiance);
-}
 
 /// Uniformly distributed unit vector (double precision, then rounded).
 spt::Vec3 random_direction(Uniform& rng) {
@@ -214,7 +203,7 @@ TEST(PlasticBsdf, LobeChoiceProportionalToAlbedo) {
     for (int i = 0; i < kSamples; ++i) {
         spt::SampledWavelengths lambda = spt::SampledWavelengths::sample(rng.next_float());
         const std::optional<spt::BsdfSample> bs =
-            sample_bsdf(m, wo, n, lambda, rng.next_float(), rng.next_float(), rng.next_float());
+            spt::test::sample_radiance(m, wo, n, lambda, rng.next_float(), rng.next_float(), rng.next_float());
         ASSERT_TRUE(bs.has_value());
         if (!bs->is_delta()) {
             ++diffuse;
@@ -248,12 +237,12 @@ TEST(PlasticBsdf, SpectralWeightsAverageToAlbedo) {
     for (int i = 0; i < kSamples; ++i) {
         spt::SampledWavelengths lambda = base;
         const std::optional<spt::BsdfSample> bs =
-            sample_bsdf(m, wo, n, lambda, rng.next_float(), rng.next_float(), rng.next_float());
+            spt::test::sample_radiance(m, wo, n, lambda, rng.next_float(), rng.next_float(), rng.next_float());
         ASSERT_TRUE(bs.has_value());
         for (int k = 0; k < spt::kLambdaCount; ++k) sum[k] += bs->weight[k], sum2[k] += double(bs->weight[k]) * bs->weight[k];
     }
     for (int k = 0; k < spt::kLambdaCount; ++k) {
-        const double albedo = lobes(m).kd.eval(base.lambda[k]) + lobes(m).ks.eval(base.lambda[k]);
+        const double albedo = spt::test::lobes_of(m).kd.eval(base.lambda[k]) + spt::test::lobes_of(m).ks.eval(base.lambda[k]);
         const double mean = sum[k] / kSamples;
         const double se = std::sqrt(std::max(0.0, sum2[k] / kSamples - mean * mean) / kSamples);
         EXPECT_GT(se, 0.0);
@@ -285,7 +274,7 @@ TEST(DiffuseBsdf, SamplesFollowCosineLawOnSideOfWo) {
             while (accepted < kWanted) {
                 spt::SampledWavelengths lambda = spt::SampledWavelengths::sample(rng.next_float());
                 const std::optional<spt::BsdfSample> bs =
-                    sample_bsdf(*mat, wo, n, lambda, rng.next_float(), rng.next_float(), rng.next_float());
+                    spt::test::sample_radiance(*mat, wo, n, lambda, rng.next_float(), rng.next_float(), rng.next_float());
                 ASSERT_TRUE(bs.has_value());
                 if (bs->is_delta()) continue;
                 ++accepted;
@@ -321,7 +310,7 @@ TEST(DiffuseBsdf, NeverReturnsHorizonOrNonFiniteDirections) {
     for (float u1 : us)
         for (float u2 : us) {
             spt::SampledWavelengths lambda = spt::SampledWavelengths::sample(0.5f);
-            const std::optional<spt::BsdfSample> bs = sample_bsdf(lambert, wo, n, lambda, 0.5f, u1, u2);
+            const std::optional<spt::BsdfSample> bs = spt::test::sample_radiance(lambert, wo, n, lambda, 0.5f, u1, u2);
             if (!bs) continue;
             EXPECT_TRUE(spt::is_finite(bs->wi)) << u1 << "," << u2;
             EXPECT_GT(spt::dot(bs->wi, n), 0.f) << u1 << "," << u2;
@@ -340,7 +329,7 @@ TEST(BsdfSample, ExactlyTangentWoGivesNoSample) {
     for (const spt::Material& m : materials) {
         for (float u : {0.1f, 0.5f, 0.9f}) {
             spt::SampledWavelengths lambda = spt::SampledWavelengths::sample(0.5f);
-            const std::optional<spt::BsdfSample> bs = sample_bsdf(m, wo, n, lambda, u, u, u);
+            const std::optional<spt::BsdfSample> bs = spt::test::sample_radiance(m, wo, n, lambda, u, u, u);
             EXPECT_FALSE(bs.has_value()) << m.name << " u=" << u << " returned wi=(" << bs->wi.x << ","
                                          << bs->wi.y << "," << bs->wi.z << ")";
         }
@@ -379,7 +368,7 @@ TEST(BsdfEnergy, MeanWeightEqualsAlbedoAndNeverExceedsOne) {
             for (int i = 0; i < kSamples; ++i) {
                 spt::SampledWavelengths lambda = base;
                 const std::optional<spt::BsdfSample> bs =
-                    sample_bsdf(m, wo, n, lambda, rng.next_float(), rng.next_float(), rng.next_float());
+                    spt::test::sample_radiance(m, wo, n, lambda, rng.next_float(), rng.next_float(), rng.next_float());
                 if (!bs) continue;  // absorbed / dropped: weight 0
                 for (int k = 0; k < spt::kLambdaCount; ++k) {
                     const double w = double(bs->weight[k]) * bs->eta_scale;
@@ -391,7 +380,7 @@ TEST(BsdfEnergy, MeanWeightEqualsAlbedoAndNeverExceedsOne) {
             const float cos_o = std::fabs(spt::dot(wo, n));
             for (int k = 0; k < spt::kLambdaCount; ++k) {
                 const float l = base.lambda[k];
-                const spt::LobeMixBsdf p = lobes(m);
+                const spt::LobeMixBsdf p = spt::test::lobes_of(m);
                 double albedo = p.kd.eval(l) + p.ks.eval(l) + p.kt.eval(l);
                 if (m.flags.has(spt::BsdfFlags::dispersive) && k > 0) {
                     const float eta = p.eta.eval(l);

@@ -103,6 +103,20 @@ inline Scene environment_only(Scene scene) {
     return scene;
 }
 
+/// The kd/ks/kt parameters of a material as a lobe mix (a diffuse material is the mix with
+/// only kd), for tests that check each lobe.
+inline LobeMixBsdf lobes_of(const Material& m) {
+    if (const DiffuseBsdf* d = std::get_if<DiffuseBsdf>(&m.bsdf))
+        return LobeMixBsdf{d->kd, constant_spectrum(0.0), constant_spectrum(0.0), constant_spectrum(1.5)};
+    return std::get<LobeMixBsdf>(m.bsdf);
+}
+
+/// Samples the material's BSDF for radiance (camera paths), as the path tracer does.
+inline std::optional<BsdfSample> sample_radiance(const Material& m, const Vec3& wo, const Vec3& n,
+                                                 SampledWavelengths& lambda, float u_lobe, float u1, float u2) {
+    return bsdf_sample(m.bsdf, wo, n, lambda, u_lobe, u1, u2, TransportMode::radiance);
+}
+
 /// Schott BK7 (Sellmeier coefficients of ROBUSTNESS.md §4): a dispersive glass.
 inline Material bk7_material(SpectralResolution res = {}) {
     Material m;

@@ -73,12 +73,7 @@ struct SphereLight {
             ls.p_err = (abs(sphere.center) + Vec3(sphere.radius, sphere.radius, sphere.radius)) * gamma_bound(6);
             ls.pdf = 1.f / (2.f * kPi * omc_max);
         }
-        const Vec3 d = ls.p - ctx.p;
-        const float dist = length(d);
-        if (!(dist > 0.f) || !(ls.pdf > 0.f) || !std::isfinite(ls.pdf)) return std::nullopt;
-        ls.wi = d / dist;
-        ls.L = Le.sample(lambda);
-        return ls;
+        return finish_area_sample(ls, ctx.p, Le.sample(lambda));
     }
 
     /// Density of sample_li producing the direction towards `p_light` (a point of the sphere

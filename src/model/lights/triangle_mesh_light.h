@@ -55,12 +55,7 @@ struct TriangleMeshLight {
         LightSample ls;
         sample_point(u1, u2, ls.p, ls.p_err, ls.n);
         ls.pdf = area_to_solid_angle(1.f / total_area, ctx.p, ls.p, ls.n);
-        const Vec3 d = ls.p - ctx.p;
-        const float dist = length(d);
-        if (!(dist > 0.f) || !(ls.pdf > 0.f) || !std::isfinite(ls.pdf)) return std::nullopt;
-        ls.wi = d / dist;
-        ls.L = Le.sample(lambda);
-        return ls;
+        return finish_area_sample(ls, ctx.p, Le.sample(lambda));
     }
 
     float pdf_li(const LightSampleContext& ctx, const Vec3& p_light, const Vec3& n_light) const {
