@@ -53,8 +53,7 @@ static_assert(sizeof(Hit) == 64, "see the comment on Hit");
 
 /// Origin for a ray leaving p towards w: p pushed along ±n past its error box, then one
 /// more ulp away per axis so that rounding cannot bring it back (pbrt-v4 OffsetRayOrigin).
-[[gnu::always_inline]] inline Vec3 offset_ray_origin(const Vec3& p, const Vec3& p_err, const Vec3& n,
-                                                     const Vec3& w) {
+inline Vec3 offset_ray_origin(const Vec3& p, const Vec3& p_err, const Vec3& n, const Vec3& w) {
     const float dist = dot(abs(n), p_err);
     Vec3 offset = n * dist;
     if (dot(w, n) < 0.f) offset = -offset;

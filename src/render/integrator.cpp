@@ -30,7 +30,7 @@ inline LightSampleContext light_context(const Hit& hit, const Material& mat, con
                                                       PathStats& stats) {
     SampledSpectrum Ld(0.f);
     for (int i : scene.point_light_indices) {
-        const PointLight& light = std::get<PointLight>(scene.lights[i]);
+        const PointLight& light = *std::get_if<PointLight>(&scene.lights[i]);
         const Vec3 to_light = light.position - hit.p;
         const float dist2 = length_squared(to_light);
         if (!(dist2 > 0.f)) continue;  // light exactly on the surface: no defined direction
