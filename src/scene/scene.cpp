@@ -80,16 +80,16 @@ void validate_material(const Material& m) {
 
 std::optional<Hit> Scene::intersect_bvh(const Ray& ray, double t_best, int best_plane) const {
     BvhHit h;
-    if (m_bvh.intersect(ray, spheres, triangles, t_best, h)) {
-        const auto i = prim_index(h.prim);
-        if (is_triangle(h.prim)) return with_prim(triangles[i].make_hit(h.tri), ShapeKind::triangle, i);
+    if (m_bvh.intersect(ray, {spheres, triangles}, t_best, h)) {
+        const auto i = h.prim.index();
+        if (h.prim.kind() == ShapeKind::triangle) return with_prim(triangles[i].make_hit(h.tri), ShapeKind::triangle, i);
         return with_prim(spheres[i].make_hit(ray, t_best), ShapeKind::sphere, i);
     }
     if (best_plane >= 0) return with_prim(planes[best_plane].make_hit(ray, t_best), ShapeKind::plane, best_plane);
     return std::nullopt;
 }
 
-bool Scene::occluded_bvh(const Ray& ray) const { return m_bvh.occluded(ray, spheres, triangles); }
+bool Scene::occluded_bvh(const Ray& ray) const { return m_bvh.occluded(ray, {spheres, triangles}); }
 
 void Scene::finalize() {
     const float big = 1e30f;
@@ -144,7 +144,7 @@ void Scene::finalize() {
 
     // Bounded shapes: a BVH once there are more than a handful (see kBvhThreshold).
     m_bvh = Bvh{};
-    if (spheres.size() + triangles.size() > kBvhThreshold) m_bvh.build(spheres, triangles);
+    if (spheres.size() + triangles.size() > kBvhThreshold) m_bvh.build({spheres, triangles});
     m_use_bvh = !m_bvh.empty();
     m_sphere_lanes.build(m_use_bvh ? std::vector<Sphere>{} : spheres);
     std::vector<Sphere> bounds;
