@@ -169,8 +169,8 @@ TEST(SphereLight, DirectionsFollowTheConeDensity) {
     const Vec3 axis = spt::normalize(c - p);
     const double d = spt::length(c - p);
     const double cos_cone = std::sqrt(1 - (r / d) * (r / d));
-    // Cells over a cone a little wider than the sphere's, so the rim is inside.
-    expect_directions_follow_pdf(scene, 0, context(p, {0, 1, 0}), axis, cos_cone - 0.01, "outside");
+    // Cells over the cone the sphere subtends (ending at its rim, not across it).
+    expect_directions_follow_pdf(scene, 0, context(p, {0, 1, 0}), axis, cos_cone - 1e-5, "outside");
 }
 
 TEST(SphereLight, SmallAndFarSphereKeepsItsDensity) {
@@ -309,6 +309,34 @@ TEST(TriangleMeshLight, QuadIrradianceMatchesAnalytic) {
     const Scene scene = quad_light_scene({-0.25f, float(h), -0.25f}, {0.5f, 0, 0}, {0, 0, 0.5f}, le);
     const Estimate e = irradiance(scene, 0, context({0, 0, 0}, {0, 1, 0}), 100000, 8);
     expect_irradiance(e, kPi * le * 4 * corner_form_factor(0.25, 0.25, h), "quad 0.5 at 1.98");
+}
+
+// ---------------------------- Disk (and the other quadrics): their area ----------------------------
+
+Scene disk_light_scene(Vec3 center, Vec3 normal, float radius, double le) {
+    Scene scene = empty_scene();
+    spt::Disk d{center, normal, radius, 0};
+    d.light = scene.add_emitter(ShapeKind::disk, constant(le));
+    scene.disks.push_back(d);
+    scene.finalize();
+    return scene;
+}
+
+TEST(QuadricLight, DiskDirectionsFollowTheAreaDensity) {
+    const float h = 1.f, r = 0.5f;
+    const Scene scene = disk_light_scene({0, h, 0}, {0, -1, 0}, r, 1.0);
+    // From the axis the disk is a cone of half-angle atan(r/h) about it: the cells end at its
+    // rim (a rim inside a cell would need the cell's integral to resolve an edge).
+    const double cos_edge = h / std::sqrt(h * h + r * r);
+    expect_directions_follow_pdf(scene, 0, context({0, 0, 0}, {0, 1, 0}), {0, 1, 0}, cos_edge - 1e-5, "disk");
+}
+
+TEST(QuadricLight, DiskIrradianceMatchesAnalytic) {
+    // On the axis of a disk of radius r at height h: E = π·L·r²/(r² + h²).
+    const double le = 12.0, r = 0.4, h = 2.2;
+    const Scene scene = disk_light_scene({0, float(h), 0}, {0, -1, 0}, float(r), le);
+    const Estimate e = irradiance(scene, 0, context({0, 0, 0}, {0, 1, 0}), 100000, 31);
+    expect_irradiance(e, kPi * le * r * r / (r * r + h * h), "disk r = 0.4 at 2.2");
 }
 
 // ---------------------------- Infinite plane: the half-space that sees it ----------------------------

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <string>
 
+#include "render/mis.h"
 #include "scene/scene_loader.h"
 #include "test_scenes.h"
 
@@ -56,6 +57,38 @@ Scene floor_under_sphere(float x, float z, float fov, bool with_ball) {
 RenderSettings with_mode(RenderSettings s, LightSampling mode) {
     s.integrator.light_sampling = mode;
     return s;
+}
+
+TEST(Mis, PowerHeuristicStaysFiniteForExtremeDensities) {
+    EXPECT_FLOAT_EQ(power_heuristic(1.f, 1.f), 0.5f);
+    EXPECT_FLOAT_EQ(power_heuristic(3.f, 1.f), 0.9f);
+    EXPECT_FLOAT_EQ(power_heuristic(1.f, 3.f) + power_heuristic(3.f, 1.f), 1.f);
+    EXPECT_EQ(power_heuristic(0.f, 1.f), 0.f);
+    EXPECT_EQ(power_heuristic(1.f, 0.f), 1.f);
+    // Squares of these overflow a float: the weights must still be 1 and 0, never NaN.
+    EXPECT_EQ(power_heuristic(1e25f, 0.3f), 1.f);
+    EXPECT_EQ(power_heuristic(0.3f, 1e25f), 0.f);
+    EXPECT_FLOAT_EQ(power_heuristic(2e30f, 2e30f), 0.5f);
+    EXPECT_EQ(power_heuristic(INFINITY, 1.f), 1.f);
+    EXPECT_EQ(power_heuristic(1.f, INFINITY), 0.f);
+}
+
+TEST(Mis, QuadricsUnderADiskLightHaveNoRejectedSamples) {
+    // A disk light over a floor with a cylinder, a cone and a plastic ball: next-event
+    // estimation sees the disk nearly edge-on from points near its plane (densities beyond
+    // 1e19 in solid angle), where the power heuristic's squares overflowed.
+    const std::string text = R"({"camera": {"position": [0, 0.3, 3.5], "look_at": [0, -0.2, 0]},
+      "materials": {"white": {"type": "diffuse", "kd": 0.75}, "plastic": {"kd": 0.5, "ks": 0.2}},
+      "shapes": [{"type": "plane", "normal": [0, 1, 0], "point": [0, -1, 0], "material": "white"},
+        {"type": "cylinder", "base": [-0.8, -1, -0.3], "axis": [0, 1, 0], "radius": 0.3, "height": 0.9, "material": "white"},
+        {"type": "cone", "base": [0.1, -1, -0.5], "axis": [0, 1, 0], "radius": 0.35, "height": 1.0, "material": "plastic"},
+        {"type": "disk", "center": [0, 1.2, 0], "normal": [0, -1, 0], "radius": 0.4, "emission": 10},
+        {"type": "disk", "center": [0.5, -0.2, 0.5], "normal": [0, 1, 0], "radius": 0.2, "emission": 5}]})";
+    const Scene scene = load_scene_text(text, "quadrics.json", "quadrics", {}, {});
+    RenderStats stats;
+    const auto film = render_film(scene, small_settings(48, 48, 64), &stats);
+    EXPECT_EQ(film->rejected_nonfinite(), 0u);
+    EXPECT_EQ(film->rejected_negative(), 0u);
 }
 
 TEST(Mis, FloorRadianceUnderSmallSphereIsAnalyticForEveryEstimator) {

@@ -23,20 +23,69 @@ Aabb bounds(const Triangle& t) {
     return b;
 }
 
-BvhBuildStats Bvh::build(std::span<const Sphere> spheres, std::span<const Triangle> triangles) {
+namespace {
+
+/// Half-extents per axis of a circle of radius r about the unit normal n: r·√(1 − nᵢ²).
+DVec3 rim_extent(const DVec3& n, double r) {
+    auto e = [r](double c) { return r * std::sqrt(std::max(0.0, 1.0 - c * c)); };
+    return {e(n.x), e(n.y), e(n.z)};
+}
+
+/// The box [lo, hi] computed in double, grown by pad (the error of the double arithmetic,
+/// which matters where lo or hi cancel to near 0) and rounded outwards to floats.
+Aabb outward_box(const DVec3& lo, const DVec3& hi, double pad) {
+    Aabb b;
+    b.lo = {next_float_down(static_cast<float>(lo.x - pad)), next_float_down(static_cast<float>(lo.y - pad)),
+            next_float_down(static_cast<float>(lo.z - pad))};
+    b.hi = {next_float_up(static_cast<float>(hi.x + pad)), next_float_up(static_cast<float>(hi.y + pad)),
+            next_float_up(static_cast<float>(hi.z + pad))};
+    return b;
+}
+
+DVec3 min(const DVec3& a, const DVec3& b) { return {std::min(a.x, b.x), std::min(a.y, b.y), std::min(a.z, b.z)}; }
+DVec3 max(const DVec3& a, const DVec3& b) { return {std::max(a.x, b.x), std::max(a.y, b.y), std::max(a.z, b.z)}; }
+
+}  // namespace
+
+Aabb bounds(const Disk& d) {
+    const DVec3 c(d.center), e = rim_extent(d.unit_normal(), d.radius);
+    return outward_box(c - e, c + e, 32.0 * kDoubleEps * (max_abs(c) + d.radius));
+}
+
+Aabb bounds(const Cylinder& cyl) {
+    // The hull of the two rims (a tube is convex in every axis direction's extremes).
+    const DVec3 a = cyl.unit_axis(), b(cyl.base), top = b + double(cyl.height) * a;
+    const DVec3 e = rim_extent(a, cyl.radius);
+    return outward_box(min(b, top) - e, max(b, top) + e,
+                       32.0 * kDoubleEps * (max_abs(b) + cyl.radius + cyl.height));
+}
+
+Aabb bounds(const Cone& cone) {
+    // The hull of the base rim and the apex.
+    const DVec3 a = cone.unit_axis(), b(cone.base), apex = b + double(cone.height) * a;
+    const DVec3 e = rim_extent(a, cone.radius);
+    return outward_box(min(b - e, apex), max(b + e, apex),
+                       32.0 * kDoubleEps * (max_abs(b) + cone.radius + cone.height));
+}
+
+BvhBuildStats Bvh::build(const BvhShapes& shapes) {
     BvhBuildStats stats;
     m_nodes.clear();
     m_prims.clear();
     std::vector<BuildPrim> prims;
-    prims.reserve(spheres.size() + triangles.size());
-    for (std::size_t i = 0; i < spheres.size(); ++i) {
-        const Aabb b = bounds(spheres[i]);
-        prims.push_back({b, b.centroid(), static_cast<PrimRef>(i)});
-    }
-    for (std::size_t i = 0; i < triangles.size(); ++i) {
-        const Aabb b = bounds(triangles[i]);
-        prims.push_back({b, b.centroid(), static_cast<PrimRef>(i) | kTriangleBit});
-    }
+    prims.reserve(shapes.spheres.size() + shapes.triangles.size() + shapes.disks.size() +
+                  shapes.cylinders.size() + shapes.cones.size());
+    auto add = [&prims](auto list, ShapeKind kind) {
+        for (std::size_t i = 0; i < list.size(); ++i) {
+            const Aabb b = bounds(list[i]);
+            prims.push_back({b, b.centroid(), PrimId(kind, static_cast<std::uint32_t>(i))});
+        }
+    };
+    add(shapes.spheres, ShapeKind::sphere);
+    add(shapes.triangles, ShapeKind::triangle);
+    add(shapes.disks, ShapeKind::disk);
+    add(shapes.cylinders, ShapeKind::cylinder);
+    add(shapes.cones, ShapeKind::cone);
     if (prims.empty()) return stats;
     m_nodes.reserve(prims.size());  // about n nodes for leaves of ~2 primitives
     m_prims.reserve(prims.size());
@@ -128,8 +177,23 @@ int Bvh::build_node(std::vector<BuildPrim>& prims, int begin, int end, int depth
     return index;
 }
 
-bool Bvh::intersect(const Ray& ray, std::span<const Sphere> spheres, std::span<const Triangle> triangles,
-                    double& t_best, BvhHit& hit) const {
+namespace {
+
+/// Distance to a primitive other than a triangle (which needs t_max and returns barycentrics),
+/// or infinity: one switch on the kind per primitive test.
+inline double quadric_t(const Ray& ray, const BvhShapes& shapes, PrimId p) {
+    switch (p.kind()) {
+        case ShapeKind::sphere: return shapes.spheres[p.index()].intersect_t(ray);
+        case ShapeKind::disk: return shapes.disks[p.index()].intersect_t(ray);
+        case ShapeKind::cylinder: return shapes.cylinders[p.index()].intersect_t(ray);
+        case ShapeKind::cone: return shapes.cones[p.index()].intersect_t(ray);
+        default: return kInfinity;  // planes are never in the tree
+    }
+}
+
+}  // namespace
+
+bool Bvh::intersect(const Ray& ray, const BvhShapes& shapes, double& t_best, BvhHit& hit) const {
     if (m_nodes.empty()) return false;
     const RaySlabs slabs(ray);
     // The box test's limit in float, never below the double t_best.
@@ -148,13 +212,13 @@ bool Bvh::intersect(const Ray& ray, std::span<const Sphere> spheres, std::span<c
                 continue;
             }
             for (std::uint32_t i = node.offset, e = node.offset + node.count; i < e; ++i) {
-                const PrimRef p = m_prims[i];
-                if (is_triangle(p)) {
-                    if (const auto ti = triangles[prim_index(p)].intersect(ray, t_best)) {
+                const PrimId p = m_prims[i];
+                if (p.kind() == ShapeKind::triangle) {
+                    if (const auto ti = shapes.triangles[p.index()].intersect(ray, t_best)) {
                         t_best = ti->t, hit.prim = p, hit.tri = *ti, found = true;
                         t_limit = next_float_up(static_cast<float>(t_best));
                     }
-                } else if (const double t = spheres[prim_index(p)].intersect_t(ray); t < t_best) {
+                } else if (const double t = quadric_t(ray, shapes, p); t < t_best) {
                     t_best = t, hit.prim = p, found = true;
                     t_limit = next_float_up(static_cast<float>(t_best));
                 }
@@ -167,7 +231,7 @@ bool Bvh::intersect(const Ray& ray, std::span<const Sphere> spheres, std::span<c
     return found;
 }
 
-bool Bvh::occluded(const Ray& ray, std::span<const Sphere> spheres, std::span<const Triangle> triangles) const {
+bool Bvh::occluded(const Ray& ray, const BvhShapes& shapes) const {
     if (m_nodes.empty()) return false;
     const RaySlabs slabs(ray);
     const float t_limit = next_float_up(ray.t_max);
@@ -183,9 +247,9 @@ bool Bvh::occluded(const Ray& ray, std::span<const Sphere> spheres, std::span<co
                 continue;
             }
             for (std::uint32_t i = node.offset, e = node.offset + node.count; i < e; ++i) {
-                const PrimRef p = m_prims[i];
-                if (is_triangle(p) ? triangles[prim_index(p)].intersect(ray, ray.t_max).has_value()
-                                   : spheres[prim_index(p)].intersect_t(ray) < ray.t_max)
+                const PrimId p = m_prims[i];
+                if (p.kind() == ShapeKind::triangle ? shapes.triangles[p.index()].intersect(ray, ray.t_max).has_value()
+                                                    : quadric_t(ray, shapes, p) < ray.t_max)
                     return true;  // any hit will do
             }
         }

@@ -71,6 +71,12 @@ struct Plane {
         fill_surface(hit);
         return hit;
     }
+
+    /// (u, v) = (dot(p, tangent_u), dot(p, tangent_v)): coordinates in scene units, unbounded.
+    void uv(const Vec3& p, float& u, float& v) const {
+        u = dot(p, tangent_u);
+        v = dot(p, tangent_v);
+    }
 };
 
 inline void Plane::set_frame() {

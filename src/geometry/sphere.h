@@ -4,7 +4,9 @@
 #include <algorithm>
 #include <cmath>
 
+#include "geometry/dvec3.h"
 #include "geometry/ray.h"
+#include "geometry/surface_sample.h"
 
 namespace spt {
 
@@ -69,6 +71,26 @@ struct Sphere {
         hit.material = material;
         hit.light = light;
         return hit;
+    }
+
+    float area() const { return static_cast<float>(4.0 * kPiDouble * radius * radius); }
+
+    /// Uniform by area (Archimedes: the height along the axis is uniform), computed in double.
+    SurfaceSample sample_area(float u1, float u2) const {
+        const double z = 1.0 - 2.0 * u1, s = std::sqrt(std::max(0.0, 1.0 - z * z));
+        const double phi = 2.0 * kPiDouble * u2;
+        const DVec3 n(s * std::cos(phi), s * std::sin(phi), z);
+        const Vec3 p = (DVec3(center) + double(radius) * n).to_float();
+        return {p, double_point_error(p, max_abs(DVec3(center)) + radius), n.to_float()};
+    }
+
+    /// u = φ/2π about +y, φ from +x towards +z; v = θ/π, θ the angle from +y. In [0, 1].
+    void uv(const Vec3& p, float& u, float& v) const {
+        const DVec3 q = DVec3(p) - DVec3(center);
+        const double len = length(q);
+        u = turns(q.x, q.z);
+        const double theta = len > 0.0 ? std::acos(std::clamp(q.y / len, -1.0, 1.0)) : 0.0;
+        v = std::min(static_cast<float>(theta / kPiDouble), 1.f);
     }
 };
 

@@ -8,7 +8,9 @@
 #include <cmath>
 #include <optional>
 
+#include "geometry/dvec3.h"
 #include "geometry/ray.h"
+#include "geometry/surface_sample.h"
 
 namespace spt {
 
@@ -137,6 +139,34 @@ struct Triangle {
         hit.material = material;
         hit.light = light;
         return hit;
+    }
+
+    float area() const {
+        double c[3];
+        cross_double(c);
+        return static_cast<float>(0.5 * std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]));
+    }
+
+    /// Uniform by area: barycentrics (1 − √u1, u2·√u1, ·) (the square-root warp), the point
+    /// from them in double with make_hit's error bound; n as in make_hit.
+    SurfaceSample sample_area(float u1, float u2) const {
+        const double su = std::sqrt(double(u1)), b0 = 1.0 - su, b1 = u2 * su, b2 = 1.0 - b0 - b1;
+        const Vec3 p = (b0 * DVec3(p0) + b1 * DVec3(p1) + b2 * DVec3(p2)).to_float();
+        const Vec3 abs_sum = abs(p0) * static_cast<float>(b0) + abs(p1) * static_cast<float>(b1) +
+                             abs(p2) * static_cast<float>(b2);
+        double c[3];
+        cross_double(c);
+        return {p, abs_sum * gamma_bound(7) + rounded_point_error(p), normalize(DVec3(c[0], c[1], c[2])).to_float()};
+    }
+
+    /// (u, v) = (b1, b2), the barycentrics of p1 and p2, recomputed from p (its projection
+    /// onto the plane, by least squares in double) and clamped to [0, 1].
+    void uv(const Vec3& p, float& u, float& v) const {
+        const DVec3 e1 = DVec3(p1) - DVec3(p0), e2 = DVec3(p2) - DVec3(p0), w = DVec3(p) - DVec3(p0);
+        const double d11 = dot(e1, e1), d12 = dot(e1, e2), d22 = dot(e2, e2);
+        const double w1 = dot(w, e1), w2 = dot(w, e2), det = d11 * d22 - d12 * d12;
+        u = static_cast<float>(std::clamp((d22 * w1 - d12 * w2) / det, 0.0, 1.0));
+        v = static_cast<float>(std::clamp((d11 * w2 - d12 * w1) / det, 0.0, 1.0));
     }
 };
 

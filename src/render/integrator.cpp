@@ -5,16 +5,11 @@
 #include "render/integrator.h"
 
 #include "model/bsdfs/bsdf.h"
+#include "render/mis.h"
 
 namespace spt {
 
 namespace {
-
-/// Power heuristic (β = 2, Veach 1997) for a strategy of density `a` against one of density `b`.
-inline float power_heuristic(float a, float b) {
-    const float a2 = a * a, b2 = b * b;
-    return a2 > 0.f ? a2 / (a2 + b2) : 0.f;
-}
 
 /// The light-sampling reference at a hit: shading normal on wo's side, and whether light
 /// from behind matters (a BSDF that transmits).

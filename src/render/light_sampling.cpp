@@ -45,9 +45,14 @@ std::optional<LightOrigin> LightSampler::sample(const SampledWavelengths& lambda
         o.pdf_pos *= choice;
         return o;
     }
-    std::optional<LightOrigin> o;
-    if (const SphereLight* s = std::get_if<SphereLight>(&light)) o = s->sample_le(lambda, u1, u2, u_side, u3, u4);
-    else o = std::get<TriangleMeshLight>(light).sample_le(lambda, u1, u2, u_side, u3, u4);
+    // An area light (planes are never chosen: they cannot start a subpath).
+    std::optional<LightOrigin> o = std::visit(
+        [&](const auto& l) -> std::optional<LightOrigin> {
+            if constexpr (requires { l.sample_le(lambda, u1, u2, u_side, u3, u4); })
+                return l.sample_le(lambda, u1, u2, u_side, u3, u4);
+            else return std::nullopt;
+        },
+        light);
     if (o) o->pdf_pos *= choice;
     return o;
 }
@@ -64,9 +69,12 @@ float LightSampler::origin_pdf(const Hit& hit) const {
     if (hit.light < 0) return 0.f;
     const float choice = m_choice.probability(hit.light);
     if (choice == 0.f) return 0.f;  // emitting planes cannot start subpaths
-    const Light& light = m_scene.lights[static_cast<std::size_t>(hit.light)];
-    if (const SphereLight* s = std::get_if<SphereLight>(&light)) return choice * s->pdf_le_pos();
-    return choice * std::get<TriangleMeshLight>(light).pdf_le_pos();
+    return std::visit(
+        [&](const auto& l) -> float {
+            if constexpr (requires { l.pdf_le_pos(); }) return choice * l.pdf_le_pos();
+            else return 0.f;
+        },
+        m_scene.lights[static_cast<std::size_t>(hit.light)]);
 }
 
 }  // namespace spt

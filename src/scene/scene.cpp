@@ -85,14 +85,35 @@ int Scene::add_emitter(ShapeKind kind, Spectrum radiance) {
         case ShapeKind::sphere: lights.emplace_back(SphereLight{{}, std::move(radiance)}); break;
         case ShapeKind::plane: lights.emplace_back(PlaneLight{{}, std::move(radiance)}); break;
         case ShapeKind::triangle: lights.emplace_back(TriangleMeshLight{{}, {}, 0.f, std::move(radiance)}); break;
-        default: throw SceneError("this shape cannot emit yet");
+        case ShapeKind::disk: lights.emplace_back(QuadricLight{Disk{}, std::move(radiance)}); break;
+        case ShapeKind::cylinder: lights.emplace_back(QuadricLight{Cylinder{}, std::move(radiance)}); break;
+        case ShapeKind::cone: lights.emplace_back(QuadricLight{Cone{}, std::move(radiance)}); break;
     }
     return static_cast<int>(lights.size()) - 1;
 }
 
 void Scene::surface_uv(const Hit& hit, float& u, float& v) const {
-    (void)hit;  // MERGE-SHAPES: the shapes' uv() arrive with the shapes branch
-    u = v = 0.f;
+    const std::uint32_t i = hit.prim.index();
+    switch (hit.prim.kind()) {
+        case ShapeKind::sphere: return spheres[i].uv(hit.p, u, v);
+        case ShapeKind::plane: return planes[i].uv(hit.p, u, v);
+        case ShapeKind::disk: return disks[i].uv(hit.p, u, v);
+        case ShapeKind::cylinder: return cylinders[i].uv(hit.p, u, v);
+        case ShapeKind::cone: return cones[i].uv(hit.p, u, v);
+        case ShapeKind::triangle: break;
+    }
+    const Triangle& t = triangles[i];
+    if (t.attributes >= 0 && triangle_attributes[static_cast<std::size_t>(t.attributes)].has_uv) {
+        // The vertices' (u, v) interpolated with the barycentrics of p.
+        float b1, b2;
+        t.uv(hit.p, b1, b2);
+        const TriangleAttributes& a = triangle_attributes[static_cast<std::size_t>(t.attributes)];
+        const float b0 = 1.f - b1 - b2;
+        u = b0 * a.uv[0][0] + b1 * a.uv[1][0] + b2 * a.uv[2][0];
+        v = b0 * a.uv[0][1] + b1 * a.uv[1][1] + b2 * a.uv[2][1];
+        return;
+    }
+    t.uv(hit.p, u, v);
 }
 
 void validate_emission(const Spectrum& s, const std::string& what) { check_spectrum(s, what, 0.f, 1e30f); }
@@ -123,16 +144,22 @@ void validate_material(const Material& m) {
 
 std::optional<Hit> Scene::intersect_bvh(const Ray& ray, double t_best, int best_plane) const {
     BvhHit h;
-    if (m_bvh.intersect(ray, spheres, triangles, t_best, h)) {
-        const auto i = prim_index(h.prim);
-        if (is_triangle(h.prim)) return triangle_hit(triangles[i], h.tri);
+    if (m_bvh.intersect(ray, bvh_shapes(), t_best, h)) {
+        const auto i = h.prim.index();
+        switch (h.prim.kind()) {
+            case ShapeKind::triangle: return triangle_hit(triangles[i], h.tri);
+            case ShapeKind::disk: return with_prim(disks[i].make_hit(ray, t_best), ShapeKind::disk, i);
+            case ShapeKind::cylinder: return with_prim(cylinders[i].make_hit(ray, t_best), ShapeKind::cylinder, i);
+            case ShapeKind::cone: return with_prim(cones[i].make_hit(ray, t_best), ShapeKind::cone, i);
+            default: break;
+        }
         return with_prim(spheres[i].make_hit(ray, t_best), ShapeKind::sphere, i);
     }
     if (best_plane >= 0) return with_prim(planes[best_plane].make_hit(ray, t_best), ShapeKind::plane, best_plane);
     return std::nullopt;
 }
 
-bool Scene::occluded_bvh(const Ray& ray) const { return m_bvh.occluded(ray, spheres, triangles); }
+bool Scene::occluded_bvh(const Ray& ray) const { return m_bvh.occluded(ray, bvh_shapes()); }
 
 void Scene::finalize() {
     for (Material& m : materials) {
@@ -153,6 +180,27 @@ void Scene::finalize() {
         require(finite(p.normal) && std::isfinite(p.offset), "plane must be finite");
         require(std::fabs(length(p.normal) - 1.f) < 1e-4f, "plane normal must be unit length");
         check_material_index(p.material, "a plane");
+    }
+    auto check_axis = [&](const Vec3& v, const char* what) {
+        require(finite(v) && std::fabs(length(v) - 1.f) < 1e-4f, std::string(what) + " must be a unit vector");
+    };
+    auto check_size = [&](float x, const char* what) {
+        require(std::isfinite(x) && x > 0.f, std::string(what) + " must be > 0 and finite");
+    };
+    for (const Disk& d : disks) {
+        require(finite(d.center), "disk centre must be finite");
+        check_axis(d.normal, "disk normal"), check_size(d.radius, "disk radius");
+        check_material_index(d.material, "a disk");
+    }
+    for (const Cylinder& c : cylinders) {
+        require(finite(c.base), "cylinder base must be finite");
+        check_axis(c.axis, "cylinder axis"), check_size(c.radius, "cylinder radius"), check_size(c.height, "cylinder height");
+        check_material_index(c.material, "a cylinder");
+    }
+    for (const Cone& c : cones) {
+        require(finite(c.base), "cone base must be finite");
+        check_axis(c.axis, "cone axis"), check_size(c.radius, "cone radius"), check_size(c.height, "cone height");
+        check_material_index(c.material, "a cone");
     }
     for (const Triangle& t : triangles) {
         require(finite(t.p0) && finite(t.p1) && finite(t.p2), "triangle vertices must be finite");
@@ -183,9 +231,11 @@ void Scene::finalize() {
         else m_general_planes.push_back(i);
     }
 
-    // Bounded shapes: a BVH once there are more than a handful (see kBvhThreshold).
+    // Bounded shapes: a BVH once there are more than a handful (see kBvhThreshold), or any
+    // disk, cylinder or cone (the loop below the threshold knows spheres and triangles only).
     m_bvh = Bvh{};
-    if (spheres.size() + triangles.size() > kBvhThreshold) m_bvh.build(spheres, triangles);
+    const bool quadrics = !disks.empty() || !cylinders.empty() || !cones.empty();
+    if (spheres.size() + triangles.size() > kBvhThreshold || quadrics) m_bvh.build(bvh_shapes());
     m_use_bvh = !m_bvh.empty();
     m_sphere_lanes.build(m_use_bvh ? std::vector<Sphere>{} : spheres);
     std::vector<Sphere> bounds;
@@ -209,6 +259,9 @@ void Scene::finalize() {
     };
     for (const Sphere& s : spheres) analyse(s.material);
     for (const Plane& p : planes) analyse(p.material);
+    for (const Disk& d : disks) analyse(d.material);
+    for (const Cylinder& c : cylinders) analyse(c.material);
+    for (const Cone& c : cones) analyse(c.material);
     for (const Triangle& t : triangles) {
         analyse(t.material);
         effects.shading_normals |= t.attributes >= 0 && triangle_attributes[static_cast<std::size_t>(t.attributes)].has_normals;
@@ -225,6 +278,9 @@ void Scene::finalize_lights() {
         box.expand(s.center + r);
     }
     for (const Triangle& t : triangles) box.expand(t.p0), box.expand(t.p1), box.expand(t.p2);
+    for (const Disk& d : disks) box.expand(bounds(d));
+    for (const Cylinder& c : cylinders) box.expand(bounds(c));
+    for (const Cone& c : cones) box.expand(bounds(c));
     for (const Light& l : lights)
         if (const PointLight* p = std::get_if<PointLight>(&l)) box.expand(p->position);
     box.expand(camera.position);
@@ -255,6 +311,15 @@ void Scene::finalize_lights() {
         l->plane = p;
         l->scene_radius = bounds_radius;
     }
+    auto attach_quadric = [&](const auto& shape, const char* what) {
+        if (shape.light < 0) return;
+        QuadricLight* l = std::get_if<QuadricLight>(&light_of(shape.light, what));
+        require(l != nullptr, std::string("an emitting ") + what + "'s light is not a quadric light");
+        l->shape = shape;
+    };
+    for (const Disk& d : disks) attach_quadric(d, "disk");
+    for (const Cylinder& c : cylinders) attach_quadric(c, "cylinder");
+    for (const Cone& c : cones) attach_quadric(c, "cone");
     for (const Triangle& t : triangles) {
         if (t.light < 0) continue;
         TriangleMeshLight* l = std::get_if<TriangleMeshLight>(&light_of(t.light, "triangle"));

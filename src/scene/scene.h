@@ -7,6 +7,9 @@
 
 #include "geometry/axis_planes.h"
 #include "geometry/bvh.h"
+#include "geometry/cone.h"
+#include "geometry/cylinder.h"
+#include "geometry/disk.h"
 #include "geometry/plane.h"
 #include "geometry/sphere.h"
 #include "geometry/sphere_lanes.h"
@@ -40,6 +43,9 @@ struct Scene {
     std::vector<Material> materials;
     std::vector<Sphere> spheres;
     std::vector<Plane> planes;
+    std::vector<Disk> disks;
+    std::vector<Cylinder> cylinders;
+    std::vector<Cone> cones;
     /// Triangles of meshes, quads and single triangles, in one flat array.
     std::vector<Triangle> triangles;
     /// Vertex normals and (u, v) of mesh triangles (Triangle::attributes indexes it).
@@ -69,8 +75,8 @@ struct Scene {
     void add_point_light(const Vec3& position, Spectrum intensity);
     /// Sets the environment's radiance (rays that escape); zero removes it.
     void set_background(Spectrum radiance);
-    /// Adds the emitter for a shape of the given kind (sphere, plane or triangles: a quad or
-    /// mesh shares one) and returns the index to store in the shapes' `light`.
+    /// Adds the emitter for a shape of the given kind (a quad's or a mesh's triangles share
+    /// one) and returns the index to store in the shapes' `light`.
     int add_emitter(ShapeKind kind, Spectrum radiance);
     /// The environment light, or nullptr when escaping rays see black.
     const EnvironmentLight* environment() const {
@@ -140,6 +146,7 @@ struct Scene {
     }
 
 private:
+    BvhShapes bvh_shapes() const { return {spheres, triangles, disks, cylinders, cones}; }
     /// The hit record of a triangle: its primitive, and its shading normal on meshes with
     /// vertex normals.
     Hit triangle_hit(const Triangle& tri, const TriangleIntersection& ti) const {

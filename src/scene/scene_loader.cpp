@@ -266,6 +266,21 @@ private:
         m_scene.triangles.push_back(t);
     }
 
+    /// A direction (non-zero) normalised; an error at the value if it cannot be.
+    Vec3 unit_direction(const JsonValue& v, const std::string& what) const {
+        const Vec3 n = normalize(direction(v, what));
+        if (!is_finite(n)) fail(v.pos(), what + " cannot be normalised; expected a direction of moderate length");
+        return n;
+    }
+
+    /// A length > 0 that stays > 0 in single precision.
+    float positive_size(const JsonValue& shape, const char* key, const std::string& what) const {
+        const JsonValue& v = required(shape, key, what);
+        const auto x = static_cast<float>(number_in(v, what + " " + key, 0, kMaxSceneCoordinate, true));
+        if (!(x > 0.f)) fail(v.pos(), what + " " + key + " rounds to 0 in single precision; expected a larger value");
+        return x;
+    }
+
     void shape(const JsonValue& v) {
         const std::string index = std::to_string(m_shape_count++);
         object(v, "shape " + index);
@@ -356,8 +371,25 @@ private:
                 ++added;
             }
             if (added == 0) fail(fv.pos(), what + ": " + quote_text(display) + " has no triangle of non-zero area; expected at least one");
+        } else if (type == "disk") {
+            check_keys(v, what, {"type", "center", "normal", "radius", "material", "emission"});
+            Disk d;
+            d.center = point(required(v, "center", what), what + " center");
+            d.normal = unit_direction(required(v, "normal", what), what + " normal");
+            d.radius = positive_size(v, "radius", what);
+            const Surface surface = shape_surface(v, what, ShapeKind::disk);
+            d.material = surface.material, d.light = surface.light;
+            m_scene.disks.push_back(d);
+        } else if (type == "cylinder" || type == "cone") {
+            check_keys(v, what, {"type", "base", "axis", "radius", "height", "material", "emission"});
+            const Vec3 base = point(required(v, "base", what), what + " base");
+            const Vec3 axis = unit_direction(required(v, "axis", what), what + " axis");
+            const float radius = positive_size(v, "radius", what), height = positive_size(v, "height", what);
+            const Surface surface = shape_surface(v, what, type == "cone" ? ShapeKind::cone : ShapeKind::cylinder);
+            if (type == "cone") m_scene.cones.push_back({base, axis, radius, height, surface.material, surface.light});
+            else m_scene.cylinders.push_back({base, axis, radius, height, surface.material, surface.light});
         } else {
-            const std::vector<std::string> types = {"sphere", "plane", "quad", "triangle", "mesh"};
+            const std::vector<std::string> types = {"sphere", "plane", "quad", "triangle", "mesh", "disk", "cylinder", "cone"};
             fail(v.find("type")->pos(), "unknown shape type " + quote_text(type) + "." + suggestion(type, types) +
                                             " Expected one of: " + join(types));
         }

@@ -1,0 +1,96 @@
+// Open cylinder (a tube without caps). Intersected in double through the axial-quadric solver
+// (geometric discriminant, stable roots, error-bounded t); hits are reprojected onto the tube.
+#pragma once
+#include <algorithm>
+#include <cmath>
+
+#include "geometry/axial_quadric.h"
+#include "geometry/ray.h"
+#include "geometry/surface_sample.h"
+
+namespace spt {
+
+struct Cylinder {
+    Vec3 base;            ///< centre of the bottom rim
+    Vec3 axis{0, 1, 0};   ///< unit direction from the bottom rim to the top rim
+    float radius = 1.f;
+    float height = 1.f;
+    int material = -1;
+    int light = -1;  ///< emitter attached to the cylinder (Scene::lights), −1 if none
+
+    /// The axis normalised in double: the surface's definition for every computation.
+    DVec3 unit_axis() const { return normalize(DVec3(axis)); }
+
+    /// Distance to the nearest hit with t > 0 (beyond the error bound of t), or infinity.
+    double intersect_t(const Ray& ray) const {
+        const DVec3 a = unit_axis(), d(ray.d);
+        const DVec3 g = DVec3(ray.o) - DVec3(base);  // one rounding per component
+        const AxialRoots roots = solve_axial_quadric(g, kDoubleEps * max_abs(g), d, a, 0.0, radius);
+        double best = kInfinity;
+        for (int i = 0; i < roots.count; ++i) {
+            const double t = roots.t[i];
+            if (!(t > roots.err[i]) || t >= best) continue;
+            const double z = dot(g, a) + t * dot(d, a);
+            if (z >= 0.0 && z <= height) best = t;
+        }
+        return best;
+    }
+
+    /// The hit at distance t (from intersect_t): the point is reprojected onto the tube at
+    /// its axial position, so its error is its rounding plus that of the reprojection; the
+    /// normal points away from the axis (outward), whichever side the ray came from.
+    Hit make_hit(const Ray& ray, double t) const {
+        const DVec3 a = unit_axis();
+        const DVec3 q = DVec3(ray.o) - DVec3(base) + t * DVec3(ray.d);
+        const double z = dot(q, a);
+        const DVec3 n = radial_direction(q - z * a, a);
+        const Vec3 p = (DVec3(base) + z * a + double(radius) * n).to_float();
+        Hit hit;
+        hit.t = static_cast<float>(t);
+        hit.p = p;
+        hit.p_err = double_point_error(p, magnitude());
+        hit.n = n.to_float();
+        hit.ns = hit.n;
+        hit.material = material;
+        hit.light = light;
+        return hit;
+    }
+
+    float area() const { return static_cast<float>(2.0 * kPiDouble * radius * height); }
+
+    /// Uniform by area: height uniform along the axis, angle uniform about it.
+    SurfaceSample sample_area(float u1, float u2) const {
+        const DVec3 a = unit_axis();
+        DVec3 s, t;
+        tangent_basis(a, s, t);
+        const double phi = 2.0 * kPiDouble * u2;
+        const DVec3 n = std::cos(phi) * s + std::sin(phi) * t;
+        const Vec3 p = (DVec3(base) + (double(height) * u1) * a + double(radius) * n).to_float();
+        return {p, double_point_error(p, magnitude()), n.to_float()};
+    }
+
+    /// u = φ/2π, the angle about the axis from the tangent s of tangent_basis(axis) towards t;
+    /// v = z/height, the axial position from the bottom rim. Both clamped to [0, 1].
+    void uv(const Vec3& p, float& u, float& v) const {
+        const DVec3 a = unit_axis();
+        DVec3 s, t;
+        tangent_basis(a, s, t);
+        const DVec3 q = DVec3(p) - DVec3(base);
+        u = turns(dot(q, s), dot(q, t));
+        v = static_cast<float>(std::clamp(dot(q, a) / height, 0.0, 1.0));
+    }
+
+private:
+    /// Largest magnitude in the double arithmetic of points on the surface (for their error).
+    double magnitude() const { return max_abs(DVec3(base)) + radius + height; }
+    /// Unit vector along the radial part r of a point (any perpendicular on the axis itself).
+    static DVec3 radial_direction(const DVec3& r, const DVec3& a) {
+        const double len = length(r);
+        if (len > 0.0) return r * (1.0 / len);
+        DVec3 s, t;
+        tangent_basis(a, s, t);
+        return s;
+    }
+};
+
+}  // namespace spt
