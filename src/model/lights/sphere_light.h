@@ -26,8 +26,11 @@ struct SphereLight {
     /// hemisphere whose nearest point is the shading point itself (4.6 % of inner-wall
     /// points: next-event estimation in a closed emitting sphere came out 1 % low).
     bool sees_from_inside(const LightSampleContext& ctx) const {
+        // Clearly outside (beyond any rounding of p): no offset needed.
+        const float r2 = sphere.radius * sphere.radius;
+        if (length_squared(ctx.p - sphere.center) > r2 * 1.01f) return false;
         const Vec3 o = offset_ray_origin(ctx.p, ctx.p_err, ctx.n, sphere.center - ctx.p);
-        return !(length_squared(o - sphere.center) > sphere.radius * sphere.radius);
+        return !(length_squared(o - sphere.center) > r2);
     }
 
     /// sin²θmax of the cone seen from ctx, or a negative value when ctx sees the inside.
