@@ -303,6 +303,46 @@ double corner_form_factor(double a, double b, double c) {
            (2 * kPi);
 }
 
+Scene rectangle_light_scene(Vec3 o, Vec3 e1, Vec3 e2, double le) {
+    Scene scene = empty_scene();
+    const int light = scene.add_quad_emitter(o, e1, e2, constant(le));
+    spt::Triangle a{o, o + e1, o + e1 + e2, 0}, b{o, o + e1 + e2, o + e2, 0};
+    a.light = b.light = light;
+    scene.triangles = {a, b};
+    scene.finalize();
+    return scene;
+}
+
+TEST(QuadLight, SolidAngleSamplingFollowsItsDensityNearAndFar) {
+    // A quad's own light samples the spherical rectangle it subtends where it looks large
+    // (Ureña et al. 2013) and its area elsewhere: close above the centre (the ceiling over
+    // cornell-quad's light), off to the side, far away, and a rotated rectangle.
+    const Vec3 o(-0.25f, 1.f, -0.25f), e1(0.5f, 0, 0), e2(0, 0, 0.5f);
+    const Scene scene = rectangle_light_scene(o, e1, e2, 1.0);
+    for (const Vec3& p : {Vec3(0, 1.02f, 0), Vec3(0.05f, 0.98f, 0.1f), Vec3(0.1f, 0, 0.05f), Vec3(1.5f, 0.2f, 0.7f)}) {
+        const spt_test::Chi2Result r = parallelogram_test(scene, 0, context(p, {0, 1, 0}), o, e1, e2, 200000, 41);
+        EXPECT_GT(r.p_value, kAlpha) << "from (" << p.x << ", " << p.y << ", " << p.z << "): X² = " << r.statistic;
+    }
+    const float c = std::cos(0.5f), s = std::sin(0.5f);
+    const Vec3 r1(0.4f * c, 0.4f * s, 0), r2(0, 0, 0.3f), ro(0.2f, 0.5f, -0.1f);
+    const Scene rotated = rectangle_light_scene(ro, r1, r2, 1.0);
+    const spt_test::Chi2Result r = parallelogram_test(rotated, 0, context({0.3f, 0.4f, 0}, {0, 1, 0}), ro, r1, r2, 200000, 42);
+    EXPECT_GT(r.p_value, kAlpha) << "rotated: X² = " << r.statistic;
+}
+
+TEST(QuadLight, IrradianceCloseAboveMatchesAnalyticWithLowVariance) {
+    // 0.02 below the centre of a 0.5 × 0.5 light (as the ceiling above cornell-quad's light):
+    // E = π·L·4·F(0.25, 0.25, 0.02). Sampling the area there makes each sample's weight
+    // vary by the (r_max/r_min)² ≈ 300 of the distances; solid angle keeps it within cos θ.
+    const double le = 48.0, h = 0.02;
+    const Scene quad = rectangle_light_scene({-0.25f, float(h), -0.25f}, {0.5f, 0, 0}, {0, 0, 0.5f}, le);
+    const Scene area = quad_light_scene({-0.25f, float(h), -0.25f}, {0.5f, 0, 0}, {0, 0, 0.5f}, le);
+    const Estimate e = irradiance(quad, 0, context({0, 0, 0}, {0, 1, 0}), 100000, 43);
+    const Estimate a = irradiance(area, 0, context({0, 0, 0}, {0, 1, 0}), 100000, 43);
+    expect_irradiance(e, kPi * le * 4 * corner_form_factor(0.25, 0.25, h), "rectangle at 0.02");
+    EXPECT_LT(e.stderr_ * 10, a.stderr_) << "solid angle " << e.stderr_ << ", area " << a.stderr_;
+}
+
 TEST(TriangleMeshLight, QuadIrradianceMatchesAnalytic) {
     // A 0.5 × 0.5 quad 1.98 above the point, centred: four corner rectangles of 0.25 × 0.25.
     const double le = 24.0, h = 1.98;

@@ -92,6 +92,15 @@ int Scene::add_emitter(ShapeKind kind, Spectrum radiance) {
     return static_cast<int>(lights.size()) - 1;
 }
 
+int Scene::add_quad_emitter(const Vec3& o, const Vec3& e1, const Vec3& e2, Spectrum radiance) {
+    QuadLight q;
+    q.o = o, q.e1 = e1, q.e2 = e2;
+    q.Le = std::move(radiance);
+    q.finish();
+    lights.emplace_back(std::move(q));
+    return static_cast<int>(lights.size()) - 1;
+}
+
 void Scene::surface_uv(const Hit& hit, float& u, float& v) const {
     const std::uint32_t i = hit.prim.index();
     switch (hit.prim.kind()) {
@@ -322,8 +331,10 @@ void Scene::finalize_lights() {
     for (const Cone& c : cones) attach_quadric(c, "cone");
     for (const Triangle& t : triangles) {
         if (t.light < 0) continue;
-        TriangleMeshLight* l = std::get_if<TriangleMeshLight>(&light_of(t.light, "triangle"));
-        require(l != nullptr, "an emitting triangle's light is not a triangle light");
+        Light& light = light_of(t.light, "triangle");
+        if (std::holds_alternative<QuadLight>(light)) continue;  // a quad's: it keeps its own corners
+        TriangleMeshLight* l = std::get_if<TriangleMeshLight>(&light);
+        require(l != nullptr, "an emitting triangle's light is not a triangle or quad light");
         l->add(t);
     }
 
@@ -350,6 +361,10 @@ void Scene::finalize_lights() {
                 if constexpr (requires { l.Le; }) check_spectrum(l.Le, "emission", 0.f, 1e30f);
             }, light);
             if (TriangleMeshLight* m = std::get_if<TriangleMeshLight>(&light)) m->finish();
+            if (QuadLight* q = std::get_if<QuadLight>(&light)) {
+                require(q->area() > 0.f && is_finite(q->o) && is_finite(q->e1) && is_finite(q->e2),
+                        "a quad light must be a finite parallelogram of non-zero area");
+            }
         }
         area_power[i] = light_power(light);
     }

@@ -78,6 +78,9 @@ struct Scene {
     /// Adds the emitter for a shape of the given kind (a quad's or a mesh's triangles share
     /// one) and returns the index to store in the shapes' `light`.
     int add_emitter(ShapeKind kind, Spectrum radiance);
+    /// Adds the emitter of a parallelogram o, o + e1, o + e1 + e2, o + e2 (a quad's two
+    /// triangles store its index): sampled by solid angle when it is a rectangle.
+    int add_quad_emitter(const Vec3& o, const Vec3& e1, const Vec3& e2, Spectrum radiance);
     /// The environment light, or nullptr when escaping rays see black.
     const EnvironmentLight* environment() const {
         return environment_index >= 0 ? &std::get<EnvironmentLight>(lights[environment_index]) : nullptr;

@@ -156,6 +156,13 @@ private:
     /// The surface of a shape of the given kind: "material": NAME (emitting if the material
     /// has "emission"), or "emission": SPECTRUM (a black emitter).
     Surface shape_surface(const JsonValue& v, const std::string& what, ShapeKind kind) {
+        return shape_surface(v, what, [&](const Spectrum& le) { return m_scene.add_emitter(kind, le); });
+    }
+
+    /// shape_surface with the shape's own way of making its emitter (a quad's light knows
+    /// its corners).
+    template <typename MakeEmitter>
+    Surface shape_surface(const JsonValue& v, const std::string& what, const MakeEmitter& make_emitter) {
         const JsonValue* name = v.find("material");
         const JsonValue* emission = v.find("emission");
         if (name && emission) fail(v.pos(), what + " has both \"material\" and \"emission\"; expected one of them");
@@ -167,7 +174,7 @@ private:
             const Spectrum le = spectrum(*emission, what + " emission", SpectrumUse::Emission);
             surface.material = add_material(std::move(m), emission->pos());
             m_material_emission.emplace_back();
-            if (!le.is_zero()) surface.light = m_scene.add_emitter(kind, le);
+            if (!le.is_zero()) surface.light = make_emitter(le);
             return surface;
         }
         if (!name) fail(v.pos(), what + " has neither \"material\" nor \"emission\"; expected one of them");
@@ -175,7 +182,7 @@ private:
         if (auto it = m_material_index.find(n); it != m_material_index.end()) {
             surface.material = it->second;
             const Spectrum& le = m_material_emission[static_cast<std::size_t>(it->second)];
-            if (!le.is_zero()) surface.light = m_scene.add_emitter(kind, le);
+            if (!le.is_zero()) surface.light = make_emitter(le);
             return surface;
         }
         std::vector<std::string> known;
@@ -315,8 +322,9 @@ private:
             const Vec3 e1 = direction(required(v, "edge1", what), what + " edge1");
             const Vec3 e2 = direction(required(v, "edge2", what), what + " edge2");
             const Transform tr = transform(v.find("transform"));
-            const Surface m = shape_surface(v, what, ShapeKind::triangle);
             const Vec3 a = tr.apply(o), b = tr.apply(o + e1), c = tr.apply(o + e1 + e2), d = tr.apply(o + e2);
+            const Surface m = shape_surface(
+                v, what, [&](const Spectrum& le) { return m_scene.add_quad_emitter(a, b - a, d - a, le); });
             add_triangle(a, b, c, m, v.pos(), what);
             add_triangle(a, c, d, m, v.pos(), what);
         } else if (type == "triangle") {

@@ -23,13 +23,15 @@
 #include "model/lights/environment_light.h"
 #include "model/lights/plane_light.h"
 #include "model/lights/point_light.h"
+#include "model/lights/quad_light.h"
 #include "model/lights/quadric_light.h"
 #include "model/lights/sphere_light.h"
 #include "model/lights/triangle_mesh_light.h"
 
 namespace spt {
 
-using Light = std::variant<PointLight, SphereLight, TriangleMeshLight, QuadricLight, PlaneLight, EnvironmentLight>;
+using Light =
+    std::variant<PointLight, SphereLight, QuadLight, TriangleMeshLight, QuadricLight, PlaneLight, EnvironmentLight>;
 
 inline bool is_delta_light(const Light& light) { return std::holds_alternative<PointLight>(light); }
 

@@ -49,6 +49,8 @@ struct QuadLight {
     /// cancel (error ≈ 2e-16/gap in double) and the float coordinates of the sampled points
     /// start to resolve the distribution under the point coarsely (a few tens of ulps).
     static constexpr double kMaxSolidAngleGap = 1e-4;
+    /// Below this estimated solid angle (sr) the rectangle is area-sampled: see strategy().
+    static constexpr double kSolidAngleWorthIt = 0.1;
 
     /// Precomputes the normal, the area and the frame; call after setting o, e1, e2.
     void finish() {
@@ -101,6 +103,15 @@ struct QuadLight {
                            double(gamma_bound(4)) * dot(abs(n), abs(ctx.p) + abs(o) + abs(e1) + abs(e2));
         if (!(std::fabs(z0) > tol)) return Strategy::none;
         if (!rectangular) return Strategy::area;
+        // Far from the light, area sampling is almost as good and much cheaper (the map needs
+        // four arc tangents): solid angle only where the rectangle looks large, by the
+        // estimate Ω ≈ A·|z0|/d³ from its centre. On cornell-quad (256², 64 spp, seed 1):
+        // area sampling everywhere 2.59 s, relMSE 0.224; solid angle everywhere 4.45 s, 0.183;
+        // solid angle above 0.1 sr 2.67 s, 0.185.
+        const double cx = d[0] + 0.5 * (double(e1.x) + e2.x), cy = d[1] + 0.5 * (double(e1.y) + e2.y),
+                     cz = d[2] + 0.5 * (double(e1.z) + e2.z);
+        const double dc2 = cx * cx + cy * cy + cz * cz;
+        if (double(total_area) * std::fabs(z0) < kSolidAngleWorthIt * dc2 * std::sqrt(dc2)) return Strategy::area;
         r.z0 = -std::fabs(z0);  // turning z away from the light mirrors the frame: Ω and the map are unchanged
         r.x0 = d[0] * ux[0] + d[1] * ux[1] + d[2] * ux[2];
         r.y0 = d[0] * uy[0] + d[1] * uy[1] + d[2] * uy[2];
