@@ -29,7 +29,7 @@ const Vec3 kCenter(0, 0.5f, 0);
 /// A diffuse floor y = 0 under a small emitting sphere (black, radius 0.1 at (0, 0.5, 0)),
 /// and a plastic ball beside it (a diffuse and a specular lobe: MIS at a mixed vertex). The
 /// camera looks down at (x, 0, z) from `camera_height` with field of view `fov`.
-Scene floor_under_sphere(float x, float z, float fov, bool with_ball) {
+Scene floor_under_sphere(float x, float z, float fov, bool with_ball, Vec3 offset = {}) {
     Scene scene;
     Material floor;
     floor.name = "floor";
@@ -39,8 +39,8 @@ Scene floor_under_sphere(float x, float z, float fov, bool with_ball) {
     black.name = "black";
     black.bsdf = DiffuseBsdf{};
     const int m_black = scene.add_material(black);
-    scene.planes.push_back({{0, 1, 0}, 0.f, m_floor});
-    Sphere light{kCenter, kRadius, m_black};
+    scene.planes.push_back({{0, 1, 0}, offset.y, m_floor});
+    Sphere light{kCenter + offset, kRadius, m_black};
     light.light = scene.add_emitter(ShapeKind::sphere, constant_spectrum(kLe));
     scene.spheres.push_back(light);
     if (with_ball) {
@@ -49,7 +49,7 @@ Scene floor_under_sphere(float x, float z, float fov, bool with_ball) {
         plastic.bsdf = LobeMixBsdf{constant_spectrum(0.6), constant_spectrum(0.2), {}, {}};
         scene.spheres.push_back({{0.35f, 0.15f, -0.1f}, 0.15f, scene.add_material(plastic)});
     }
-    scene.camera = {{x, 1.2f, z + 1e-3f}, {x, 0.f, z}, {0, 0, -1}, fov};
+    scene.camera = {Vec3(x, 1.2f, z + 1e-3f) + offset, Vec3(x, 0.f, z) + offset, {0, 0, -1}, fov};
     scene.finalize();
     return scene;
 }
@@ -100,6 +100,14 @@ TEST(Mis, FloorRadianceUnderSmallSphereIsAnalyticForEveryEstimator) {
     const double d = length(to_center), cos_beta = to_center.y / d;
     const double expected = kAlbedo * kLe * (kRadius / d) * (kRadius / d) * cos_beta;
     for (LightSampling mode : {LightSampling::mis, LightSampling::light, LightSampling::bsdf}) {
+        if (mode == LightSampling::mis) {
+            // The same far from the origin (floats 1e-3 apart there): the shadow rays to the
+            // sphere, which skip the light's own sphere, must neither leak nor self-occlude.
+            const Scene far = floor_under_sphere(x, z, 1e-4f, false, {3e4f, -2e3f, -1e4f});
+            const auto film = render_film(far, small_settings(8, 8, 256));
+            const auto r = max_pixel_z(*film, expected);
+            EXPECT_LT(r.max_z, 4.5) << "far from the origin: " << describe(r);
+        }
         const int spp = mode == LightSampling::bsdf ? 4096 : 256;  // BSDF sampling rarely finds it
         const auto film = render_film(scene, with_mode(small_settings(8, 8, spp), mode));
         const auto r = max_pixel_z(*film, expected);

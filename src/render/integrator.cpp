@@ -56,7 +56,12 @@ inline LightSampleContext light_context(const Hit& hit, const Material& mat, con
     if (f_cos.is_zero()) return SampledSpectrum(0.f);
     ++stats.rays;
     Ray shadow;
-    if (ls->infinite) {
+    int skip_sphere = -1;
+    if (ls->unoccluding_sphere >= 0 && !scene.uses_bvh()) {
+        // The light's sphere is not tested: only the origin needs its offset.
+        shadow = spawn_ray_to(hit, ls->p);
+        skip_sphere = ls->unoccluding_sphere;
+    } else if (ls->infinite) {
         shadow = spawn_ray(hit, ls->wi);
     } else if (ls->plane_distance > 0.f) {
         // Short of the plane by a relative margin far above the origin's offset.
@@ -65,7 +70,7 @@ inline LightSampleContext light_context(const Hit& hit, const Material& mat, con
     } else {
         shadow = spawn_ray_between(hit.p, hit.p_err, hit.n, ls->p, ls->p_err, ls->n);
     }
-    if (scene.occluded(shadow)) return SampledSpectrum(0.f);
+    if (scene.occluded(shadow, skip_sphere)) return SampledSpectrum(0.f);
     const float pdf_light = choice * ls->pdf;
     if (!mis) return f_cos * ls->L / pdf_light;
     const float pdf_bsdf = bsdf_pdf(mat.bsdf, wo, ls->wi, hit.ns, lambda.lambda[0]);

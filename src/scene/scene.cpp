@@ -307,11 +307,13 @@ void Scene::finalize_lights() {
     };
     for (Light& l : lights)
         if (TriangleMeshLight* m = std::get_if<TriangleMeshLight>(&l)) m->triangles.clear();
-    for (const Sphere& s : spheres) {
+    for (std::size_t i = 0; i < spheres.size(); ++i) {
+        const Sphere& s = spheres[i];
         if (s.light < 0) continue;
         SphereLight* l = std::get_if<SphereLight>(&light_of(s.light, "sphere"));
         require(l != nullptr, "an emitting sphere's light is not a sphere light");
         l->sphere = s;
+        l->sphere_index = static_cast<int>(i);
     }
     for (const Plane& p : planes) {
         if (p.light < 0) continue;

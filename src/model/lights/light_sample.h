@@ -25,6 +25,9 @@ struct LightSample {
     /// (p is not needed); 0 for the other lights.
     float plane_distance = 0.f;
     bool delta = false;     ///< a point light (no MIS: no other strategy finds it)
+    /// A sphere of the scene that cannot occlude the point (the light's own sphere, when the
+    /// point is on the side facing the reference point), or −1: the shadow ray may skip it.
+    int unoccluding_sphere = -1;
 };
 
 /// A light subpath's origin (bidirectional integrators): the point, the first direction, the

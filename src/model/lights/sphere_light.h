@@ -16,6 +16,7 @@ namespace spt {
 struct SphereLight {
     Sphere sphere;
     Spectrum Le;  ///< radiance, both sides
+    int sphere_index = -1;  ///< the sphere's index in the scene (set by Scene::finalize)
 
     float area() const { return 4.f * kPi * sphere.radius * sphere.radius; }
     float power() const { return 2.f * kPi * area() * mean_over_visible(Le); }
@@ -75,6 +76,8 @@ struct SphereLight {
             ls.p = sphere.center + ls.n * sphere.radius;
             ls.p_err = (abs(sphere.center) + Vec3(sphere.radius, sphere.radius, sphere.radius)) * gamma_bound(6);
             ls.pdf = 1.f / (2.f * kPi * omc_max);
+            // The point is the first the direction reaches: the sphere cannot hide it.
+            ls.unoccluding_sphere = sphere_index;
         }
         return finish_area_sample(ls, ctx.p, Le.sample(lambda));
     }
