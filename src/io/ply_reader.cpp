@@ -294,7 +294,8 @@ PlyMesh parse_ply(std::string_view bytes, const std::string& origin) {
                 for (int a = 0; a < 5; ++a)
                     for (const char* name : names[a])
                         if (el.properties[p].name == name && !el.properties[p].is_list) prop_attr[a] = p;
-            if (prop_attr[0] < 0 || prop_attr[1] < 0 || prop_attr[2] < 0) prop_attr[0] = prop_attr[1] = prop_attr[2] = -1;
+            if (prop_attr[0] < 0 || prop_attr[1] < 0 || prop_attr[2] < 0)
+                prop_attr[0] = prop_attr[1] = prop_attr[2] = -1;
             if (prop_attr[3] < 0 || prop_attr[4] < 0) prop_attr[3] = prop_attr[4] = -1;
         } else if (el.name == "face") {
             if (vertex_element < 0) header_error(origin, el.line, "face element before the vertex element; expected vertices first");
@@ -384,7 +385,8 @@ PlyMesh parse_ply(std::string_view bytes, const std::string& origin) {
             if (e == vertex_element) {
                 mesh.positions.push_back({static_cast<float>(xyz[0]), static_cast<float>(xyz[1]), static_cast<float>(xyz[2])});
                 if (prop_attr[0] >= 0)
-                    mesh.normals.push_back({static_cast<float>(attr[0]), static_cast<float>(attr[1]), static_cast<float>(attr[2])});
+                    mesh.normals.push_back(
+                        {static_cast<float>(attr[0]), static_cast<float>(attr[1]), static_cast<float>(attr[2])});
                 if (prop_attr[3] >= 0) mesh.uvs.push_back({static_cast<float>(attr[3]), static_cast<float>(attr[4])});
             }
         }

@@ -458,7 +458,8 @@ SampledSpectrum Bdpt::connect() {
             if (!(dist2 > 0.f)) continue;
             const Vec3 w_pt = d / std::sqrt(dist2);  // from pt towards qs
             SampledSpectrum c = qs.beta * pt.beta * f_cos(pt, w_pt, m_lambda) / dist2;
-            if (qs.type == VertexType::surface) c *= f_cos(qs, -w_pt, m_lambda) * shading_correction(qs.hit, qs.wo, -w_pt);
+            if (qs.type == VertexType::surface)
+                c *= f_cos(qs, -w_pt, m_lambda) * shading_correction(qs.hit, qs.wo, -w_pt);
             else if (qs.on_surface()) c *= std::fabs(dot(qs.hit.n, w_pt));  // an area light's origin
             if (c.is_zero() || !visible(pt, qs)) continue;
             accumulate(c * mis_weight(s, t), terminated);

@@ -43,11 +43,10 @@ inline LightSampleContext light_context(const Hit& hit, const Material& mat, con
 /// weighted against BSDF sampling by the power heuristic (Veach 1997, §9.2). Flattened (all
 /// its callees inlined into it, the shadow ray's offsets above all): out of line, they took
 /// 13 % of the time per path on cornell-sphere; the path loop, which calls it, stays small.
-[[gnu::noinline, gnu::flatten]] SampledSpectrum sample_area_light(const Scene& scene, const LightDistribution& choices,
-                                                    const Material& mat, const Hit& hit,
-                                                    const LightSampleContext& ctx, const Vec3& wo,
-                                                    const SampledWavelengths& lambda, float u_light, float u1,
-                                                    float u2, bool mis, PathStats& stats) {
+[[gnu::noinline, gnu::flatten]] SampledSpectrum sample_area_light(
+    const Scene& scene, const LightDistribution& choices, const Material& mat, const Hit& hit,
+    const LightSampleContext& ctx, const Vec3& wo, const SampledWavelengths& lambda, float u_light, float u1,
+    float u2, bool mis, PathStats& stats) {
     float choice = 0.f;
     const int index = choices.sample(u_light, choice);
     const std::optional<LightSample> ls = light_sample_li(scene.lights[index], ctx, lambda, u1, u2);
@@ -117,7 +116,9 @@ inline LightSampleContext light_context(const Hit& hit, const Material& mat, con
         const std::optional<Hit> hit = scene.intersect(ray);
         if (!hit) {
             if (const EnvironmentLight* env = scene.environment()) {
-                const float w = mis_emission ? emission_weight(scene, choices, scene.environment_index, prev_ctx, prev_pdf, ray.d, nullptr) : 1.f;
+                const float w = mis_emission ? emission_weight(scene, choices, scene.environment_index, prev_ctx,
+                                                               prev_pdf, ray.d, nullptr)
+                                             : 1.f;
                 L += beta * env->Le.sample(lambda) * w;
             }
             break;
@@ -127,7 +128,8 @@ inline LightSampleContext light_context(const Hit& hit, const Material& mat, con
 
         // ---- Emission found by the path ----
         if (hit->light >= 0) {
-            const float w = mis_emission ? emission_weight(scene, choices, hit->light, prev_ctx, prev_pdf, ray.d, &*hit) : 1.f;
+            const float w =
+                mis_emission ? emission_weight(scene, choices, hit->light, prev_ctx, prev_pdf, ray.d, &*hit) : 1.f;
             L += beta * scene.emitted(*hit, lambda) * w;
         }
         if (!mat.reflects() || depth == settings.max_depth) break;

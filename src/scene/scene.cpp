@@ -203,7 +203,8 @@ void Scene::finalize() {
     }
     for (const Cylinder& c : cylinders) {
         require(finite(c.base), "cylinder base must be finite");
-        check_axis(c.axis, "cylinder axis"), check_size(c.radius, "cylinder radius"), check_size(c.height, "cylinder height");
+        check_axis(c.axis, "cylinder axis"), check_size(c.radius, "cylinder radius");
+        check_size(c.height, "cylinder height");
         check_material_index(c.material, "a cylinder");
     }
     for (const Cone& c : cones) {
@@ -214,7 +215,8 @@ void Scene::finalize() {
     for (const Triangle& t : triangles) {
         require(finite(t.p0) && finite(t.p1) && finite(t.p2), "triangle vertices must be finite");
         require(!t.is_degenerate(), "triangle has zero area (collinear or repeated vertices)");
-        require(t.attributes < static_cast<int>(triangle_attributes.size()), "a triangle refers to vertex attributes that do not exist");
+        require(t.attributes < static_cast<int>(triangle_attributes.size()),
+                "a triangle refers to vertex attributes that do not exist");
         check_material_index(t.material, "a triangle");
     }
     require(width > 0 && height > 0 && spp > 0, "image size and spp must be positive");
@@ -259,7 +261,8 @@ void Scene::finalize() {
     effects.point_lights = !point_light_indices.empty();
     effects.background = environment_index >= 0;
     for (const Light& l : lights)
-        effects.emissive_surfaces |= !std::holds_alternative<PointLight>(l) && !std::holds_alternative<EnvironmentLight>(l);
+        effects.emissive_surfaces |=
+            !std::holds_alternative<PointLight>(l) && !std::holds_alternative<EnvironmentLight>(l);
     auto analyse = [&](int index) {
         const Material& m = materials[index];
         effects.mirror |= m.flags.has(BsdfFlags::delta);
@@ -273,7 +276,8 @@ void Scene::finalize() {
     for (const Cone& c : cones) analyse(c.material);
     for (const Triangle& t : triangles) {
         analyse(t.material);
-        effects.shading_normals |= t.attributes >= 0 && triangle_attributes[static_cast<std::size_t>(t.attributes)].has_normals;
+        effects.shading_normals |=
+            t.attributes >= 0 && triangle_attributes[static_cast<std::size_t>(t.attributes)].has_normals;
     }
 }
 

@@ -125,7 +125,8 @@ struct Scene {
             if (auto ti = triangles[i].intersect(ray, t_best)) t_best = ti->t, best_triangle = &triangles[i], best_ti = ti;
         });
         if (best_triangle) return triangle_hit(*best_triangle, *best_ti);
-        if (best_sphere) return with_prim(best_sphere->make_hit(ray, t_best), ShapeKind::sphere, best_sphere - spheres.data());
+        if (best_sphere)
+            return with_prim(best_sphere->make_hit(ray, t_best), ShapeKind::sphere, best_sphere - spheres.data());
         if (best_plane >= 0) {
             const int axis = m_plane_axis[best_plane];
             return with_prim(axis >= 0 ? planes[best_plane].make_axis_hit(ray, t_best, axis)

@@ -397,7 +397,8 @@ private:
             if (type == "cone") m_scene.cones.push_back({base, axis, radius, height, surface.material, surface.light});
             else m_scene.cylinders.push_back({base, axis, radius, height, surface.material, surface.light});
         } else {
-            const std::vector<std::string> types = {"sphere", "plane", "quad", "triangle", "mesh", "disk", "cylinder", "cone"};
+            const std::vector<std::string> types = {"sphere", "plane",    "quad",     "triangle",
+                                                    "mesh",   "disk",     "cylinder", "cone"};
             fail(v.find("type")->pos(), "unknown shape type " + quote_text(type) + "." + suggestion(type, types) +
                                             " Expected one of: " + join(types));
         }
