@@ -14,7 +14,6 @@ LightSampler::LightSampler(const Scene& scene)
         if (!std::holds_alternative<PlaneLight>(scene.lights[i])) power[i] = light_power(scene.lights[i]);
     m_choice.build(power);
     m_environment_choice = m_choice.probability(scene.environment_index);
-    for (int i = 0; i < static_cast<int>(scene.planes.size()); ++i) m_blockers.push_back(i);
 }
 
 std::optional<LightOrigin> LightSampler::sample(const SampledWavelengths& lambda, float u_light, float u1,
@@ -37,7 +36,7 @@ std::optional<LightOrigin> LightSampler::sample(const SampledWavelengths& lambda
         o.pdf_dir = choice * (0.25f * kInvPi);
         // Upstream of the disk lies only what is unbounded: a plane there hides the environment.
         const Ray upstream{o.p, -o.w, kInfinity};
-        for (int i : m_blockers) o.blocked |= m_scene.planes[i].intersect_t(upstream) < kInfinity;
+        for (const Plane& plane : m_scene.planes) o.blocked |= plane.intersect_t(upstream) < kInfinity;
         return o;
     }
     if (const PointLight* point = std::get_if<PointLight>(&light)) {

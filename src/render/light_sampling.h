@@ -83,7 +83,6 @@ public:
 private:
     const Scene& m_scene;
     LightDistribution m_choice;  ///< over Scene::lights: those that can start a subpath, by power
-    std::vector<int> m_blockers;  ///< planes (indices) that may hide the environment upstream
     Vec3 m_center;                ///< bounding sphere of the environment's disk
     float m_radius = 0.f;
     float m_environment_choice = 0.f;  ///< its choice probability (0: no environment)
