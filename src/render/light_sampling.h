@@ -2,8 +2,9 @@
 //
 // What can start a light subpath:
 //   - point lights: a delta position, directions uniform over the sphere;
-//   - emitting spheres and triangles (quads, meshes): a point uniform over the area, then a
-//     side (both sides emit) with probability 1/2 and a cosine-weighted direction on it;
+//   - emitting shapes (spheres, quads, triangles, meshes, disks, cylinders, cones: one light
+//     per shape): a point uniform over the area, then a side (both sides emit) with
+//     probability 1/2 and a cosine-weighted direction on it;
 //   - the constant environment (pbrt's infinite lights): a direction d uniform over the
 //     sphere, then a point uniform on a disk of radius R perpendicular to d, one radius
 //     upstream of the centre of the scene's bounding sphere (centre c, radius R); the ray
