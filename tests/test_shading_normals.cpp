@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <numbers>
+#include <utility>
 #include <sstream>
 #include <string>
 
@@ -72,6 +73,48 @@ TEST(ShadingNormals, PlyNormalsAndUvAreRead) {
     ASSERT_EQ(mesh.uvs.size(), 3u);
     EXPECT_EQ(mesh.normals[1], Vec3(0.6f, 0.f, 0.8f));
     EXPECT_EQ(mesh.uvs[2][1], 1.f);
+}
+
+TEST(SurfaceUv, EveryShapeReportsItsCoordinatesAtAHit) {
+    // Scene::surface_uv from the hit's primitive and point: a sphere's (φ/2π, θ/π) about +y,
+    // a disk's (φ/2π, ρ/r), a plane's tangent coordinates, a mesh's interpolated vertex uv.
+    const std::string ply =
+        "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+        "property float u\nproperty float v\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
+        "10 0 0 0.2 0.4\n12 0 0 0.6 0.4\n10 2 0 0.2 0.8\n3 0 1 2\n";
+    const std::string text = R"({"camera": {"position": [0, 0, 5], "look_at": [0, 0, 0]},
+      "materials": {"m": {"kd": 0.5}},
+      "shapes": [{"type": "sphere", "center": [0, 0, 0], "radius": 1, "material": "m"},
+        {"type": "disk", "center": [5, 0, 0], "normal": [0, 0, 1], "radius": 2, "material": "m"},
+        {"type": "plane", "normal": [0, 0, 1], "point": [0, 0, -50], "material": "m"},
+        {"type": "mesh", "file": "t.ply", "material": "m"}]})";
+    const RelativeFileReader reader = [&](const std::string&, std::string& contents, std::string& display, std::string&) {
+        contents = ply;
+        display = "t.ply";
+        return true;
+    };
+    const Scene scene = load_scene_text(text, "uv.json", "uv", {}, reader);
+    auto uv_at = [&](const Vec3& o, const Vec3& d, ShapeKind kind) {
+        const std::optional<Hit> hit = scene.intersect({o, normalize(d), kInfinity});
+        EXPECT_TRUE(hit && hit->prim.kind() == kind);
+        float u = -1, v = -1;
+        if (hit) scene.surface_uv(*hit, u, v);
+        return std::pair{u, v};
+    };
+    // Sphere, hit at (0, 0, 1) from +z: θ = 90° from +y (v = 1/2); φ = atan2(z, x) = 90°.
+    const auto [su, sv] = uv_at({0, 0, 5}, {0, 0, -1}, ShapeKind::sphere);
+    EXPECT_NEAR(sv, 0.5f, 1e-6f);
+    EXPECT_NEAR(std::fabs(su - 0.5f), 0.25f, 1e-6f);  // a quarter turn from φ = 0 (u = 1/2 ± 1/4)
+    // Disk of radius 2 at (5, 0, 0), hit 1 from its centre: ρ/r = 1/2.
+    EXPECT_NEAR(uv_at({6, 0, 5}, {0, 0, -1}, ShapeKind::disk).second, 0.5f, 1e-5f);
+    // The mesh triangle, hit at its vertex-weighted point (b = 1/4, 1/4, 1/2): uv interpolated.
+    const auto [mu, mv] = uv_at({10.5f, 1.f, 5}, {0, 0, -1}, ShapeKind::triangle);
+    EXPECT_NEAR(mu, 0.25f * 0.2f + 0.25f * 0.6f + 0.5f * 0.2f, 1e-5f);
+    EXPECT_NEAR(mv, 0.25f * 0.4f + 0.25f * 0.4f + 0.5f * 0.8f, 1e-5f);
+    // The plane: coordinates along its tangents, so two hits 3 apart are 3 apart in (u, v).
+    const auto [pu0, pv0] = uv_at({-20, 20, 0}, {0, 0, -1}, ShapeKind::plane);
+    const auto [pu1, pv1] = uv_at({-17, 20, 0}, {0, 0, -1}, ShapeKind::plane);
+    EXPECT_NEAR(std::hypot(pu1 - pu0, pv1 - pv0), 3.f, 1e-4f);
 }
 
 TEST(ShadingNormals, HitCarriesTheInterpolatedNormalOnTheGeometricSide) {

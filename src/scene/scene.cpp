@@ -125,8 +125,6 @@ void Scene::surface_uv(const Hit& hit, float& u, float& v) const {
     t.uv(hit.p, u, v);
 }
 
-void validate_emission(const Spectrum& s, const std::string& what) { check_spectrum(s, what, 0.f, 1e30f); }
-
 void validate_material(const Material& m) {
     const std::string who = "material '" + m.name + "'";
     if (const DiffuseBsdf* d = std::get_if<DiffuseBsdf>(&m.bsdf)) {

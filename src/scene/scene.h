@@ -32,9 +32,6 @@ struct SceneError : std::runtime_error {
 /// naming the defect.
 void validate_material(const Material& m);
 
-/// Checks an emitted spectrum: finite and non-negative over the sampled range.
-void validate_emission(const Spectrum& s, const std::string& what);
-
 struct Scene {
     std::string name;
     CameraSpec camera;
