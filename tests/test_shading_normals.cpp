@@ -210,6 +210,7 @@ TEST(ShadingNormals, BidirectionalTransportAgreesWithPathTracing) {
     const auto bdpt = render_film(scene, s);
     const spt::test::Comparison c = compare(*path, *bdpt, [](int, int) { return true; });
     EXPECT_NEAR(c.mean_a, c.mean_b, 4 * c.se) << "path " << c.mean_a << " bdpt " << c.mean_b << " se " << c.se;
+    EXPECT_LT(c.max_z, 5.0) << "worst pixel " << c.worst_x << ", " << c.worst_y;
 }
 
 }  // namespace
