@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "core/frame.h"
+#include "log_uniform.h"
 #include "geometry/ray.h"
 #include "model/bsdfs/fresnel.h"
 #include "scene/scene.h"
@@ -23,23 +24,7 @@ using spt::Vec3;
 constexpr double kPiD = 3.14159265358979323846;
 constexpr double kEpsF = 0x1p-24;  ///< float32 unit roundoff
 
-class Uniform {
-public:
-    explicit Uniform(std::uint64_t seed) : m_gen(seed) {}
-    double next() { return static_cast<double>(m_gen() >> 11) * 0x1p-53; }
-    /// 10^U(lo, hi)
-    double log_uniform(double lo, double hi) { return std::pow(10.0, lo + (hi - lo) * next()); }
-    double sign() { return next() < 0.5 ? -1.0 : 1.0; }
-    /// A point whose components are each ±10^U(lo, hi), drawn x, y, z in that order.
-    Vec3 signed_log_point(double lo, double hi) {
-        float v[3];
-        for (float& c : v) c = float(sign() * log_uniform(lo, hi));
-        return {v[0], v[1], v[2]};
-    }
-
-private:
-    std::mt19937_64 m_gen;
-};
+using spt_test::Uniform;
 
 struct Dir {
     double x, y, z;

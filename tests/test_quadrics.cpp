@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "chi2.h"
+#include "log_uniform.h"
 #include "geometry/bvh.h"
 
 namespace spt {
@@ -22,26 +23,16 @@ namespace {
 
 using LD = long double;
 
-class Uniform {
+/// The geometry tests' random configurations, plus directions in double.
+class Uniform : public spt_test::Uniform {
 public:
-    explicit Uniform(std::uint64_t seed) : m_gen(seed) {}
-    double next() { return static_cast<double>(m_gen() >> 11) * 0x1p-53; }
-    double log_uniform(double lo, double hi) { return std::pow(10.0, lo + (hi - lo) * next()); }
-    double sign() { return next() < 0.5 ? -1.0 : 1.0; }
-    Vec3 signed_log_point(double lo, double hi) {
-        float v[3];
-        for (float& c : v) c = float(sign() * log_uniform(lo, hi));
-        return {v[0], v[1], v[2]};
-    }
+    using spt_test::Uniform::Uniform;
     DVec3 dir() {
         const double z = 1.0 - 2.0 * next(), phi = 2.0 * kPiDouble * next();
         const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
         return {r * std::cos(phi), r * std::sin(phi), z};
     }
     Vec3 unit_float_dir() { return normalize(dir().to_float()); }
-
-private:
-    std::mt19937_64 m_gen;
 };
 
 struct LVec {

@@ -11,11 +11,24 @@
 // B = Q(g, d), C = Q(g) − ρ²: B² − A·C = k²·|c⊥|² − c_z² + A·ρ², c = g × d (Lagrange's
 // identity generalised to a diagonal form: the cofactors of Q weight the components of c).
 #pragma once
+#include <algorithm>
 #include <cmath>
 
 #include "geometry/dvec3.h"
 
 namespace spt {
+
+/// Surface coordinates of a point p of a surface of revolution with unit axis a from `base`,
+/// of the given height: u = φ/2π, the angle about the axis from the tangent s of
+/// tangent_basis(a) towards t; v = the axial position from the base (0) to height (1). Both
+/// clamped to [0, 1].
+inline void axial_uv(const Vec3& p, const Vec3& base, const DVec3& a, double height, float& u, float& v) {
+    DVec3 s, t;
+    tangent_basis(a, s, t);
+    const DVec3 q = DVec3(p) - DVec3(base);
+    u = turns(dot(q, s), dot(q, t));
+    v = static_cast<float>(std::clamp(dot(q, a) / height, 0.0, 1.0));
+}
 
 /// The roots of an axial quadric along a ray, each with a bound on its rounding error.
 struct AxialRoots {

@@ -69,16 +69,8 @@ struct Cylinder {
         return {p, double_point_error(p, magnitude()), n.to_float()};
     }
 
-    /// u = φ/2π, the angle about the axis from the tangent s of tangent_basis(axis) towards t;
-    /// v = z/height, the axial position from the bottom rim. Both clamped to [0, 1].
-    void uv(const Vec3& p, float& u, float& v) const {
-        const DVec3 a = unit_axis();
-        DVec3 s, t;
-        tangent_basis(a, s, t);
-        const DVec3 q = DVec3(p) - DVec3(base);
-        u = turns(dot(q, s), dot(q, t));
-        v = static_cast<float>(std::clamp(dot(q, a) / height, 0.0, 1.0));
-    }
+    /// (u, v) as axial_uv: u = φ/2π about the axis, v the height fraction (base 0, top 1).
+    void uv(const Vec3& p, float& u, float& v) const { axial_uv(p, base, unit_axis(), height, u, v); }
 
 private:
     /// Largest magnitude in the double arithmetic of points on the surface (for their error).
