@@ -16,13 +16,14 @@
 #include "cone_histogram.h"
 #include "core/frame.h"
 #include "model/bsdfs/bsdf.h"
+#include "test_scenes.h"
 
 namespace {
 
 using namespace spt;
 constexpr double kPi = std::numbers::pi;
 
-Spectrum constant(double v) { return Spectrum(SpectrumSource::constant(v), {}); }
+Spectrum constant(double v) { return spt::test::constant_spectrum(v); }
 Spectrum exact(const SpectrumSource& s) { return Spectrum(s, {SpectralResolution::kExact}); }
 
 struct Case {

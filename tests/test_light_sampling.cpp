@@ -487,7 +487,7 @@ TEST(LightSampling, AreaEmissionCosineWeightedOnEitherSide) {
     // Directions from the sphere and from the triangle (two tests: Šidák α = 1 − (1 − 1e-3)^½),
     // binned in 9 θ × 12 φ × 2 sides about the surface normal; expected counts integrate
     // direction_pdf (½·|cos θ|/π: side ½, cosine-weighted). pdf_dir of each sample equals
-    // direction_pdf(n, w).
+    // two_sided_direction_pdf(n, w).
     const TestScene& ts = test_scene();
     const LightRun& run = light_run();
     const double alpha = sidak(2);
@@ -497,14 +497,14 @@ TEST(LightSampling, AreaEmissionCosineWeightedOnEitherSide) {
         if (id != TestScene::kSphere && id != TestScene::kTriangle) continue;
         const spt::LightOrigin& o = run.origins[k];
         ASSERT_NEAR(spt::length(o.w), 1.0, 1e-5);
-        const float pdf = spt::LightSampler::direction_pdf(o.n, o.w);
+        const float pdf = spt::two_sided_direction_pdf(o.n, o.w);
         ASSERT_NEAR(o.pdf_dir, pdf, 1e-5 * pdf + 1e-7);
         ASSERT_GT(o.pdf_dir, 0.f);
         (id == TestScene::kSphere ? hs : ht).add(o.n, o.w);
     }
     const spt::Vec3 tri_n = spt::normalize(spt::cross(ts.scene.triangles[0].p1 - ts.scene.triangles[0].p0,
                                                       ts.scene.triangles[0].p2 - ts.scene.triangles[0].p0));
-    auto pdf = [](const spt::Vec3& n, const spt::Vec3& w) { return spt::LightSampler::direction_pdf(n, w); };
+    auto pdf = [](const spt::Vec3& n, const spt::Vec3& w) { return spt::two_sided_direction_pdf(n, w); };
     for (auto* h : {&hs, &ht}) {
         const bool sphere = h == &hs;
         // Any reference normal will do for the sphere (the density depends on θ only).

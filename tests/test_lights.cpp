@@ -16,6 +16,7 @@
 #include "chi2.h"
 #include "cone_histogram.h"
 #include "scene/scene.h"
+#include "test_scenes.h"
 
 namespace {
 
@@ -25,25 +26,28 @@ using spt::ShapeKind;
 using spt::Vec3;
 constexpr double kPi = std::numbers::pi;
 
-spt::Spectrum constant(double v) { return spt::Spectrum(spt::SpectrumSource::constant(v), {}); }
+spt::Spectrum constant(double v) { return spt::test::constant_spectrum(v); }
 
 /// A scene with one black diffuse material and nothing else yet.
 Scene empty_scene() {
     Scene scene;
-    spt::Material black;
-    black.name = "black";
-    black.bsdf = spt::DiffuseBsdf{};
-    scene.add_material(black);
+    scene.add_material(spt::test::black_material());
+    return scene;
+}
+
+/// A scene of one black shape of the given kind (stored in `array`) emitting radiance le.
+template <typename Shape>
+Scene one_emitter_scene(Shape shape, ShapeKind kind, std::vector<Shape> Scene::*array, double le) {
+    Scene scene = empty_scene();
+    shape.material = 0;
+    shape.light = scene.add_emitter(kind, constant(le));
+    (scene.*array).push_back(shape);
+    scene.finalize();
     return scene;
 }
 
 Scene sphere_light_scene(Vec3 center, float radius, double le) {
-    Scene scene = empty_scene();
-    spt::Sphere s{center, radius, 0};
-    s.light = scene.add_emitter(ShapeKind::sphere, constant(le));
-    scene.spheres.push_back(s);
-    scene.finalize();
-    return scene;
+    return one_emitter_scene(spt::Sphere{center, radius}, ShapeKind::sphere, &Scene::spheres, le);
 }
 
 /// A parallelogram o, o + e1, o + e1 + e2, o + e2 as two triangles of one light.
@@ -59,12 +63,7 @@ Scene quad_light_scene(Vec3 o, Vec3 e1, Vec3 e2, double le) {
 }
 
 Scene plane_light_scene(Vec3 normal, float offset, double le) {
-    Scene scene = empty_scene();
-    spt::Plane p{normal, offset, 0};
-    p.light = scene.add_emitter(ShapeKind::plane, constant(le));
-    scene.planes.push_back(p);
-    scene.finalize();
-    return scene;
+    return one_emitter_scene(spt::Plane{normal, offset}, ShapeKind::plane, &Scene::planes, le);
 }
 
 Scene environment_scene(double le) {
@@ -354,12 +353,7 @@ TEST(TriangleMeshLight, QuadIrradianceMatchesAnalytic) {
 // ---------------------------- Disk (and the other quadrics): their area ----------------------------
 
 Scene disk_light_scene(Vec3 center, Vec3 normal, float radius, double le) {
-    Scene scene = empty_scene();
-    spt::Disk d{center, normal, radius, 0};
-    d.light = scene.add_emitter(ShapeKind::disk, constant(le));
-    scene.disks.push_back(d);
-    scene.finalize();
-    return scene;
+    return one_emitter_scene(spt::Disk{center, normal, radius}, ShapeKind::disk, &Scene::disks, le);
 }
 
 TEST(QuadricLight, DiskDirectionsFollowTheAreaDensity) {
@@ -448,6 +442,30 @@ TEST(LightList, LightsAreChosenInProportionToPower) {
     EXPECT_EQ(scene.area_light_choice.sample(0.2f, prob), a.light);
     EXPECT_EQ(scene.area_light_choice.sample(0.3f, prob), b.light);
     EXPECT_NEAR(prob, 0.75, 1e-6);
+}
+
+TEST(LightList, RemovingTheEnvironmentKeepsEveryShapesEmitter) {
+    // The environment added first, then emitters of each kind; removing the environment moves
+    // the later lights down one place, and every shape's light index must follow.
+    Scene scene = empty_scene();
+    scene.set_background(constant(1.0));
+    spt::Sphere s{{0, 0, 0}, 0.5f, 0};
+    s.light = scene.add_emitter(ShapeKind::sphere, constant(2.0));
+    spt::Disk d{{3, 0, 0}, {0, 1, 0}, 0.5f, 0};
+    d.light = scene.add_emitter(ShapeKind::disk, constant(3.0));
+    spt::Cylinder c{{-3, 0, 0}, {0, 1, 0}, 0.5f, 1.f, 0};
+    c.light = scene.add_emitter(ShapeKind::cylinder, constant(4.0));
+    scene.spheres.push_back(s);
+    scene.disks.push_back(d);
+    scene.cylinders.push_back(c);
+    scene.set_background(constant(0.0));
+    ASSERT_NO_THROW(scene.finalize());
+    EXPECT_EQ(scene.environment(), nullptr);
+    ASSERT_EQ(scene.lights.size(), 3u);
+    EXPECT_TRUE(std::holds_alternative<spt::SphereLight>(scene.lights[scene.spheres[0].light]));
+    EXPECT_TRUE(std::holds_alternative<spt::QuadricLight>(scene.lights[scene.disks[0].light]));
+    EXPECT_TRUE(std::holds_alternative<spt::QuadricLight>(scene.lights[scene.cylinders[0].light]));
+    EXPECT_NE(scene.disks[0].light, scene.cylinders[0].light);
 }
 
 TEST(LightList, EmitterNotAttachedToAShapeIsRejected) {

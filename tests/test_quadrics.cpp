@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <optional>
 #include <random>
 #include <string>
 #include <type_traits>
@@ -312,6 +313,25 @@ bool outside_ray(Uniform& rng, const S& s, Ray& ray) {
     }
 }
 
+/// A random shape at scales 10^±4, a ray from outside it (outside_ray) and the hit it finds,
+/// or nothing when the configuration gives no such ray or the ray misses.
+template <typename S>
+struct OutsideHit {
+    S shape;
+    Ray ray;
+    double t;
+    Hit hit;
+};
+template <typename S>
+std::optional<OutsideHit<S>> random_outside_hit(Uniform& rng) {
+    const S s = Shape<S>::random(rng, -4, 4);
+    Ray ray;
+    if (!outside_ray(rng, s, ray)) return std::nullopt;
+    const double t = s.intersect_t(ray);
+    if (t == kInfinity) return std::nullopt;
+    return OutsideHit<S>{s, ray, t, s.make_hit(ray, t)};
+}
+
 TYPED_TEST(QuadricShape, ReintersectionOutgoingRaysEscape) {
     // ROBUSTNESS case 1 for the new shapes: sizes 10^U(−4,4), positions ±10^U(−4,4). A ray
     // from outside hits the shape; 200 rays spawned into the hemisphere it came from must
@@ -321,12 +341,9 @@ TYPED_TEST(QuadricShape, ReintersectionOutgoingRaysEscape) {
     Uniform rng(2024);
     int configurations = 0, self_hits = 0, rays = 0;
     for (int cfg = 0; cfg < 400; ++cfg) {
-        const S s = Shape<S>::random(rng, -4, 4);
-        Ray ray;
-        if (!outside_ray(rng, s, ray)) continue;
-        const double t = s.intersect_t(ray);
-        if (t == kInfinity) continue;
-        const Hit hit = s.make_hit(ray, t);
+        const std::optional<OutsideHit<S>> h = random_outside_hit<S>(rng);
+        if (!h) continue;
+        const auto& [s, ray, t, hit] = *h;
         // Skipped: shapes below float resolution at their position, where the rounded ray
         // can enter a tube or cone through its open end and hit it from inside.
         if (!std::is_same_v<S, Disk> && !(dot(ray.d, hit.n) < 0.f)) continue;
@@ -355,12 +372,9 @@ TYPED_TEST(QuadricShape, HitsAreOnTheSurfaceWithUnitOutwardNormalsAtEveryScale) 
     int hits = 0;
     LD worst_len = 0, worst_dist = 0;
     for (int cfg = 0; cfg < 2000; ++cfg) {
-        const S s = Shape<S>::random(rng, -4, 4);
-        Ray ray;
-        if (!outside_ray(rng, s, ray)) continue;
-        const double t = s.intersect_t(ray);
-        if (t == kInfinity) continue;
-        const Hit hit = s.make_hit(ray, t);
+        const std::optional<OutsideHit<S>> h = random_outside_hit<S>(rng);
+        if (!h) continue;
+        const auto& [s, ray, t, hit] = *h;
         // Directions only where the shape is resolved by floats at its position: elsewhere the
         // rounded ray can enter through an open end, and the float point has no direction.
         if (!resolved(Shape<S>::size(s), hit.p)) continue;

@@ -392,15 +392,7 @@ class Measurement:
 
 def measure(program: Program, scene: str, size: int, spp: int, threads: int, seeds: list[int],
             ref: np.ndarray, scratch: Path) -> Measurement:
-    m = Measurement([], [], [], [])
-    out = scratch / "render.pfm"
-    for seed in seeds:
-        run = run_render(program, scene, size, spp, threads, seed, out)
-        m.times.append(run.time)
-        m.paths_per_s.append(run.paths_per_s)
-        m.rays_per_s.append(run.rays_per_s)
-        m.rel_mses.append(rel_mse(run.image, ref))
-    return m
+    return measure_interleaved([program], scene, size, spp, threads, seeds, ref, scratch)[0]
 
 
 def measure_interleaved(programs: list[Program], scene: str, size: int, spp: int, threads: int,

@@ -187,7 +187,7 @@ float Bdpt::light_direction_pdf(const Vertex& light, const Vertex& next) const {
     if (light.infinite)  // the disk point on the ray that reaches `next`
         return convert_density(m_ctx.lights.environment_position_pdf(next.p(), -light.dir), light, next);
     const Vec3 w = normalize(next.p() - light.p());
-    const float pdf_dir = light.on_surface() ? LightSampler::direction_pdf(light.hit.n, w) : 1.f / (4.f * kPi);
+    const float pdf_dir = light.on_surface() ? two_sided_direction_pdf(light.hit.n, w) : 1.f / (4.f * kPi);
     return convert_density(pdf_dir, light, next);
 }
 

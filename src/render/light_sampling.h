@@ -78,9 +78,6 @@ public:
     /// Radius of the bounding sphere of the finite shapes, the camera and the point lights.
     float scene_radius() const { return m_radius; }
 
-    /// Solid-angle density of emitting towards w from an area emitter of normal n.
-    static float direction_pdf(const Vec3& n, const Vec3& w) { return two_sided_direction_pdf(n, w); }
-
 private:
     const Scene& m_scene;
     LightDistribution m_choice;  ///< over Scene::lights: those that can start a subpath, by power

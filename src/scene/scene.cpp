@@ -70,11 +70,10 @@ void Scene::set_background(Spectrum radiance) {
         if (!std::holds_alternative<EnvironmentLight>(lights[i])) continue;
         lights.erase(lights.begin() + static_cast<std::ptrdiff_t>(i));
         // Later lights moved down by one: so must the shapes' indices of them.
-        auto shift = [&](auto& shapes) {
+        for_each_shape_array([&](auto& shapes) {
             for (auto& shape : shapes)
                 if (shape.light > static_cast<int>(i)) --shape.light;
-        };
-        shift(spheres), shift(planes), shift(triangles);
+        });
         break;
     }
     if (!radiance.is_zero()) lights.emplace_back(EnvironmentLight{std::move(radiance), {}, 1.f});
@@ -261,22 +260,17 @@ void Scene::finalize() {
     for (const Light& l : lights)
         effects.emissive_surfaces |=
             !std::holds_alternative<PointLight>(l) && !std::holds_alternative<EnvironmentLight>(l);
-    auto analyse = [&](int index) {
-        const Material& m = materials[index];
-        effects.mirror |= m.flags.has(BsdfFlags::delta);
-        effects.transmission |= m.flags.has(BsdfFlags::transmission);
-        effects.dispersion |= m.flags.has(BsdfFlags::dispersive);
-    };
-    for (const Sphere& s : spheres) analyse(s.material);
-    for (const Plane& p : planes) analyse(p.material);
-    for (const Disk& d : disks) analyse(d.material);
-    for (const Cylinder& c : cylinders) analyse(c.material);
-    for (const Cone& c : cones) analyse(c.material);
-    for (const Triangle& t : triangles) {
-        analyse(t.material);
+    for_each_shape_array([&](const auto& shapes) {
+        for (const auto& shape : shapes) {
+            const Material& m = materials[shape.material];
+            effects.mirror |= m.flags.has(BsdfFlags::delta);
+            effects.transmission |= m.flags.has(BsdfFlags::transmission);
+            effects.dispersion |= m.flags.has(BsdfFlags::dispersive);
+        }
+    });
+    for (const Triangle& t : triangles)
         effects.shading_normals |=
             t.attributes >= 0 && triangle_attributes[static_cast<std::size_t>(t.attributes)].has_normals;
-    }
 }
 
 void Scene::finalize_lights() {

@@ -153,6 +153,15 @@ struct Scene {
 
 private:
     BvhShapes bvh_shapes() const { return {spheres, triangles, disks, cylinders, cones}; }
+    /// Calls f with each array of shapes (every shape has a material and a light).
+    template <typename F>
+    void for_each_shape_array(F&& f) {
+        f(spheres), f(planes), f(disks), f(cylinders), f(cones), f(triangles);
+    }
+    template <typename F>
+    void for_each_shape_array(F&& f) const {
+        f(spheres), f(planes), f(disks), f(cylinders), f(cones), f(triangles);
+    }
     /// The hit record of a triangle: its primitive, and its shading normal on meshes with
     /// vertex normals.
     Hit triangle_hit(const Triangle& tri, const TriangleIntersection& ti) const {

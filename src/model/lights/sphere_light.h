@@ -74,7 +74,7 @@ struct SphereLight {
             const Frame f(from_center * inv_dist);  // axis from the centre to the viewer
             ls.n = f.to_world({sin_alpha * std::cos(phi), sin_alpha * std::sin(phi), cos_alpha});
             ls.p = sphere.center + ls.n * sphere.radius;
-            ls.p_err = (abs(sphere.center) + Vec3(sphere.radius, sphere.radius, sphere.radius)) * gamma_bound(6);
+            ls.p_err = point_error();
             ls.pdf = 1.f / (2.f * kPi * omc_max);
             // The point is the first the direction reaches: the sphere cannot hide it.
             ls.unoccluding_sphere = sphere_index;
@@ -90,11 +90,16 @@ struct SphereLight {
         return 1.f / (2.f * kPi * one_minus_cos(sin2_max));
     }
 
+    /// Error bound of a point c + n·r of the sphere computed in float.
+    Vec3 point_error() const {
+        return (abs(sphere.center) + Vec3(sphere.radius, sphere.radius, sphere.radius)) * gamma_bound(6);
+    }
+
     /// A point uniform over the surface.
     void sample_point(float u1, float u2, Vec3& p, Vec3& p_err, Vec3& n) const {
         n = sample_uniform_sphere(u1, u2);
         p = sphere.center + n * sphere.radius;
-        p_err = (abs(sphere.center) + Vec3(sphere.radius, sphere.radius, sphere.radius)) * gamma_bound(6);
+        p_err = point_error();
     }
 
     std::optional<LightOrigin> sample_le(const SampledWavelengths& lambda, float u1, float u2, float u_side,
