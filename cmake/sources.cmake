@@ -1,8 +1,12 @@
 # Explicit source list of the spt_core library (everything but main.cpp).
 set(SPT_CORE_SOURCES
+    src/cli/flag_warnings.cpp
+    src/cli/integrator_choice.cpp
     src/cli/options.cpp
     src/cli/progress_bar.cpp
+    src/core/text.cpp
     src/geometry/bvh.cpp
+    src/geometry/mesh_closure.cpp
     src/io/atomic_file.cpp
     src/model/bsdfs/lobe_mix.cpp
     src/io/embedded_files.cpp

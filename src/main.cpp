@@ -1,6 +1,8 @@
 // The pathtracer program: parse flags, build the scene, render, write the images.
 #include <atomic>
 #include <chrono>
+#include <sys/resource.h>
+
 #include <csignal>
 #include <cstdio>
 #include <exception>
@@ -9,6 +11,8 @@
 #include <thread>
 #include <vector>
 
+#include "cli/flag_warnings.h"
+#include "cli/integrator_choice.h"
 #include "cli/options.h"
 #include "cli/progress_bar.h"
 #include "io/atomic_file.h"
@@ -16,6 +20,7 @@
 #include "render/checkpoint.h"
 #include "render/renderer.h"
 #include "io/json.h"
+#include "scene/json_checker.h"
 #include "scene/scene_loader.h"
 #include "spectral/rgb_to_spectrum.h"
 
@@ -32,16 +37,26 @@ extern "C" void on_signal(int sig) {
     g_cancel.store(true);
 }
 
+/// Peak resident memory of the process in MiB (Linux reports ru_maxrss in KiB).
+double peak_memory_mib() {
+    rusage usage{};
+    return getrusage(RUSAGE_SELF, &usage) == 0 ? double(usage.ru_maxrss) / 1024.0 : 0.0;
+}
+
 void print_summary(const spt::Scene& scene, const spt::RenderSettings& rs, const spt::RenderStats& st,
-                   const spt::Film& film, const std::string& bins) {
+                   const spt::Film& film, const std::string& bins, const std::string& integrator_reason,
+                   double load_seconds) {
     const double s = st.seconds > 0 ? st.seconds : 1e-9;
     std::fprintf(stderr,
-                 "%s: %dx%d, %d spp, %s spectral bins, %d thread(s), integrator %s\n"
+                 "%s: %dx%d, %d spp, %s spectral bins, %d thread(s)\n"
+                 "  integrator %s (%s)\n"
+                 "  scene loaded in %.3f s (BVH built in %.3f s); peak memory %.0f MiB\n"
                  "  time %.2f s, %.3g paths/s, %.3g rays/s (%.3g rays)\n"
                  "  effects: %s\n"
                  "  rejected samples: %llu non-finite, %llu negative\n",
                  scene.name.c_str(), rs.width, rs.height, rs.spp, bins.c_str(), rs.threads,
-                 spt::integrator_name(rs.integrator.kind), st.seconds,
+                 spt::integrator_name(rs.integrator.kind), integrator_reason.c_str(), load_seconds,
+                 scene.bvh_build_seconds, peak_memory_mib(), st.seconds,
                  double(st.paths) / s, double(st.rays) / s, double(st.rays),
                  scene.effects.describe().c_str(),
                  static_cast<unsigned long long>(film.rejected_nonfinite()),
@@ -85,13 +100,33 @@ std::optional<spt::Scene> load_scene(const spt::Options& opt) {
     std::error_code ec;
     if (opt.scene.ends_with(".json") || std::filesystem::is_regular_file(opt.scene, ec))
         return spt::load_scene_file(opt.scene, opt.spectral);
-    std::string names;
-    for (const std::string& n : spt::builtin_scene_names()) names += (names.empty() ? "" : ", ") + n;
-    throw spt::UsageError("SCENE: expected a scene file (.json) or one of " + names + ", got '" + opt.scene + "'");
+    const std::vector<std::string> builtins = spt::builtin_scene_names();
+    throw spt::UsageError("SCENE: expected a scene file (.json) or one of " + spt::join(builtins) + ", got '" +
+                          opt.scene + "'." + spt::suggestion(opt.scene, builtins));
+}
+
+/// --list-scenes: one line per built-in scene, the name first (scripts take the first word).
+void list_scenes() {
+    for (const std::string& name : spt::builtin_scene_names()) {
+        const spt::Scene scene = *spt::load_builtin_scene(name, spt::SpectralResolution{});
+        const std::string size = std::to_string(scene.width) + "x" + std::to_string(scene.height);
+        std::printf("%-15s %-9s %5d spp  %-4s  %s\n", name.c_str(), size.c_str(), scene.spp,
+                    spt::integrator_name(scene.integrator.kind.value_or(spt::IntegratorKind::path)),
+                    scene.summary.c_str());
+    }
 }
 
 int run(const spt::Options& opt) {
+    const auto load_start = std::chrono::steady_clock::now();
     std::optional<spt::Scene> scene = load_scene(opt);
+    const double load_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - load_start).count();
+    const spt::IntegratorChoice integrator = spt::choose_integrator(opt, *scene);
+    std::vector<std::string> outputs = opt.outputs;
+    if (outputs.empty()) outputs.push_back(scene->name + ".png");
+    std::vector<std::string> warnings = scene->warnings;
+    for (const std::string& w : spt::ineffective_flag_warnings(opt, integrator.settings, outputs, *scene))
+        warnings.push_back(w);
+    for (const std::string& w : warnings) std::fprintf(stderr, "pathtracer: warning: %s\n", w.c_str());
     if (!opt.dispersion) scene->disable_dispersion();
     spt::RenderSettings rs;
     rs.width = opt.width.value_or(scene->width);
@@ -100,16 +135,10 @@ int run(const spt::Options& opt) {
     rs.seed = opt.seed;
     rs.threads = opt.threads > 0 ? opt.threads
                                  : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-    rs.integrator.max_depth = opt.max_depth;
-    rs.integrator.kind = opt.integrator;
-    rs.integrator.merge_radius = static_cast<float>(opt.merge_radius);
-    rs.integrator.light_sampling = opt.light_sampling;
-    rs.integrator.wavelengths_per_path = opt.wavelengths_per_path;
+    rs.integrator = integrator.settings;
     rs.pass_spp = opt.pass_spp;
     rs.time_limit = opt.time_limit;
 
-    std::vector<std::string> outputs = opt.outputs;
-    if (outputs.empty()) outputs.push_back(scene->name + ".png");
     // Fail before a long render, not after it, when an image cannot be written there.
     for (const std::string& path : outputs) {
         const std::filesystem::path dir = std::filesystem::path(path).parent_path();
@@ -122,13 +151,16 @@ int run(const spt::Options& opt) {
 
     // ---- Checkpoints: what must match to resume, and the state of the last whole pass ----
     const char* light_sampling[] = {"", " light-sampling=bsdf", " light-sampling=light"};
+    const spt::IntegratorKind kind = rs.integrator.kind;
     const std::string variant = "wavelengths-per-path=" + std::to_string(opt.wavelengths_per_path) +
-                                light_sampling[static_cast<int>(opt.light_sampling)] +
+                                light_sampling[static_cast<int>(rs.integrator.light_sampling)] +
                                 " dispersion=" + (opt.dispersion ? "on" : "off") +
-                                (opt.integrator == spt::IntegratorKind::path ? std::string()
-                                    : std::string(" integrator=") + spt::integrator_name(opt.integrator));
+                                (kind == spt::IntegratorKind::path ? std::string()
+                                    : std::string(" integrator=") + spt::integrator_name(kind)) +
+                                (kind == spt::IntegratorKind::vcm && rs.integrator.merge_radius > 0
+                                     ? " merge-radius=" + std::to_string(rs.integrator.merge_radius) : std::string());
     spt::CheckpointInfo info{opt.scene, variant, rs.width, rs.height, rs.spp, opt.spectral.bins,
-                             opt.max_depth, rs.seed, 0};
+                             rs.integrator.max_depth, rs.seed, 0};
     spt::Film film(rs.width, rs.height);
     if (!opt.resume.empty()) {
         const spt::CheckpointInfo saved = spt::read_checkpoint_info(opt.resume);
@@ -176,7 +208,7 @@ int run(const spt::Options& opt) {
         const std::string bins = opt.spectral.bins == spt::SpectralResolution::kExact
                                      ? "exact"
                                      : std::to_string(opt.spectral.bins);
-        print_summary(*scene, rs, stats, film, bins);
+        print_summary(*scene, rs, stats, film, bins, integrator.reason, load_seconds);
         if (stats.time_limited)
             std::fprintf(stderr, "  stopped by --time-limit %g s after %d of %d spp\n", opt.time_limit,
                          stats.samples_completed, rs.spp);
@@ -214,7 +246,7 @@ int main(int argc, char** argv) {
             return 0;
         }
         if (opt.list_scenes) {
-            for (const std::string& n : spt::builtin_scene_names()) std::printf("%s\n", n.c_str());
+            list_scenes();
             return 0;
         }
         return run(opt);

@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <regex>
 #include <set>
 #include <sstream>
 #include <string>
@@ -134,14 +135,35 @@ TEST_F(Cli, VersionPrintsTheVersion) {
     EXPECT_TRUE(files().empty());
 }
 
-TEST_F(Cli, ListScenesNamesTheBuiltins) {
+/// The lines of a text, without their newlines.
+std::vector<std::string> lines_of(const std::string& text) {
+    std::vector<std::string> lines;
+    std::istringstream in(text);
+    for (std::string line; std::getline(in, line);) lines.push_back(line);
+    return lines;
+}
+
+TEST_F(Cli, ListScenesDescribesTheBuiltins) {
     const RunResult r = run({"--list-scenes"});
     EXPECT_EQ(r.exit_code, 0);
-    // The default first, then every built-in scene file, one per line.
-    EXPECT_EQ(r.out.rfind("cornell\n", 0), 0u) << r.out;
-    for (const char* name : {"\ncornell-point\n", "\nprism\n", "\nglass-spheres\n"})
-        EXPECT_NE(r.out.find(name), std::string::npos) << r.out;
     EXPECT_TRUE(files().empty());
+    // The default first, then every built-in scene file, one per line: name (the first word,
+    // which scripts take), size, spp, integrator, summary.
+    const std::vector<std::string> lines = lines_of(r.out);
+    ASSERT_GE(lines.size(), 3u) << r.out;
+    EXPECT_EQ(lines[0].rfind("cornell ", 0), 0u) << r.out;
+    auto line_of = [&](const std::string& name) {
+        for (const std::string& l : lines)
+            if (l.rfind(name + " ", 0) == 0) return l;
+        return std::string();
+    };
+    const std::string cornell = line_of("cornell"), prism = line_of("prism");
+    EXPECT_NE(cornell.find("512x512"), std::string::npos) << cornell;
+    EXPECT_NE(cornell.find("128 spp"), std::string::npos) << cornell;
+    EXPECT_NE(cornell.find(" path "), std::string::npos) << cornell;
+    EXPECT_NE(cornell.find("Cornell box"), std::string::npos) << cornell;
+    EXPECT_NE(prism.find(" vcm "), std::string::npos) << prism;  // the scene file's choice
+    for (const char* name : {"cornell-point", "glass-spheres", "showcase"}) EXPECT_FALSE(line_of(name).empty()) << name;
 }
 
 struct BadCase {
@@ -185,6 +207,11 @@ TEST_F(Cli, BadArgumentsExitTwoWithOneLineNamingTheFlag) {
         {{"-o"}, {"-o"}},
         {{"--spectral-bins"}, {"--spectral-bins"}},
         {{"--integrator", "foo"}, {"--integrator", "foo", "vcm"}},
+        {{"--integrator", "bdtp"}, {"--integrator", "Did you mean \"bdpt\"?"}},
+        {{"--light-sampling", "mix"}, {"--light-sampling", "Did you mean \"mis\"?"}},
+        {{"--sp", "3"}, {"--sp", "Did you mean \"--spp\"?"}},
+        {{"--integrater=vcm"}, {"--integrater", "Did you mean \"--integrator\"?"}},
+        {{"cornel-point"}, {"cornel-point", "Did you mean \"cornell-point\"?"}},
         {{"--merge-radius", "0"}, {"--merge-radius", "'0'"}},
         {{"--merge-radius", "-1"}, {"--merge-radius", "-1"}},
         {{"--merge-radius", "abc"}, {"--merge-radius", "abc"}},
@@ -409,6 +436,114 @@ TEST_F(Cli, PngIsSrgbWhateverTheColorSpace) {
     ASSERT_EQ(run(b).exit_code, 0);
     EXPECT_EQ(read_file(m_dir / "srgb.png"), read_file(m_dir / "xyz.png"));
     EXPECT_NE(read_file(m_dir / "srgb.pfm"), read_file(m_dir / "xyz.pfm"));
+}
+
+}  // namespace
+
+namespace {
+
+/// A tiny scene file asking for an integrator (`preset` is the JSON value of "integrator", or
+/// empty for none): a diffuse box corner lit by a small emitting sphere.
+std::string scene_with_integrator(const std::string& preset) {
+    return std::string("{") + (preset.empty() ? "" : "\"integrator\": " + preset + ",") +
+           "\"camera\": {\"position\": [0, 0, 3], \"look_at\": [0, 0, 0]},"
+           "\"image\": {\"width\": 8, \"height\": 8, \"spp\": 4},"
+           "\"materials\": {\"white\": {\"kd\": 0.7}, \"glass\": {\"kt\": 1, \"ior\": 1.5}},"
+           "\"shapes\": [{\"type\": \"plane\", \"normal\": [0, 1, 0], \"point\": [0, -1, 0], \"material\": \"white\"},"
+           "{\"type\": \"sphere\", \"center\": [0, 0, 0], \"radius\": 0.5, \"material\": \"glass\"},"
+           "{\"type\": \"sphere\", \"center\": [0, 1.5, 0], \"radius\": 0.2, \"emission\": 5}]}";
+}
+
+/// The summary's integrator line ("integrator bdpt (the scene's choice ...)").
+std::string integrator_line(const std::string& err) {
+    for (const std::string& line : lines_of(err))
+        if (line.rfind("  integrator ", 0) == 0) return line;
+    return "";
+}
+
+TEST_F(Cli, SceneChoosesItsIntegratorAndTheCommandLineOverrides) {
+    write_file(m_dir / "chooses.json", scene_with_integrator("{\"type\": \"bdpt\", \"max_depth\": 3}"));
+    write_file(m_dir / "plain.json", scene_with_integrator(""));
+    const RunResult chosen = run({"chooses.json", "-o", "chosen.pfm"});
+    ASSERT_EQ(chosen.exit_code, 0) << chosen.err;
+    EXPECT_EQ(integrator_line(chosen.err).rfind("  integrator bdpt (the scene's choice", 0), 0u) << chosen.err;
+    // The scene's settings are those of the same flags on the command line: the same bits.
+    const RunResult flags = run({"plain.json", "--integrator", "bdpt", "--max-depth", "3", "-o", "flags.pfm"});
+    ASSERT_EQ(flags.exit_code, 0) << flags.err;
+    EXPECT_EQ(integrator_line(flags.err).rfind("  integrator bdpt (chosen by --integrator)", 0), 0u) << flags.err;
+    EXPECT_EQ(read_file(m_dir / "chosen.pfm"), read_file(m_dir / "flags.pfm"));
+
+    const RunResult plain = run({"plain.json", "-o", "plain.pfm"});
+    EXPECT_EQ(integrator_line(plain.err).rfind("  integrator path (the default)", 0), 0u) << plain.err;
+    const RunResult overridden = run({"chooses.json", "--integrator", "path", "--max-depth", "3", "-o", "over.pfm"});
+    EXPECT_EQ(integrator_line(overridden.err).rfind("  integrator path (chosen by --integrator)", 0), 0u)
+        << overridden.err;
+    const RunResult path3 = run({"plain.json", "--max-depth", "3", "-o", "path3.pfm"});
+    EXPECT_EQ(read_file(m_dir / "over.pfm"), read_file(m_dir / "path3.pfm"));
+    EXPECT_NE(read_file(m_dir / "over.pfm"), read_file(m_dir / "chosen.pfm"));
+}
+
+TEST_F(Cli, IntegratorNamesIgnoreCase) {
+    ASSERT_EQ(run(tiny({"cornell-point", "--integrator", "BDPT", "-o", "upper.pfm"})).exit_code, 0);
+    ASSERT_EQ(run(tiny({"cornell-point", "--integrator", "bdpt", "-o", "lower.pfm"})).exit_code, 0);
+    ASSERT_EQ(run(tiny({"cornell-point", "-o", "path.pfm"})).exit_code, 0);
+    EXPECT_EQ(read_file(m_dir / "upper.pfm"), read_file(m_dir / "lower.pfm"));
+    EXPECT_NE(read_file(m_dir / "upper.pfm"), read_file(m_dir / "path.pfm"));
+    EXPECT_EQ(run(tiny({"--light-sampling", "MIS", "-o", "a.pfm", "--color-space", "ACEScg"})).exit_code, 0);
+}
+
+TEST_F(Cli, FlagsWithoutEffectAreWarnedAbout) {
+    struct Case {
+        std::vector<std::string> args;
+        std::string warning;  ///< empty: no warning expected
+    };
+    const std::vector<Case> cases = {
+        {{"--merge-radius", "0.1", "-o", "a.pfm"}, "--merge-radius has no effect with the path integrator"},
+        {{"--integrator", "vcm", "--merge-radius", "0.1", "-o", "a.pfm"}, ""},
+        {{"--integrator", "bdpt", "--light-sampling", "bsdf", "-o", "a.pfm"}, "--light-sampling has no effect"},
+        {{"--exposure", "1", "-o", "a.pfm"}, "--exposure has no effect without a .png output"},
+        {{"--exposure", "1", "-o", "a.pfm", "-o", "a.png"}, ""},
+        {{"--color-resolution", "255", "-o", "a.png"}, "--color-resolution has no effect without a .ppm output"},
+        {{"--color-space", "xyz", "-o", "a.png"}, "--color-space has no effect with only .png outputs"},
+        {{"--checkpoint-interval", "5", "-o", "a.png"}, "--checkpoint-interval has no effect without --checkpoint"},
+        {{"--no-dispersion", "-o", "a.png"}, "--no-dispersion has no effect in a scene without dispersive glass"},
+    };
+    for (const Case& c : cases) {
+        // --quiet silences the summary, not warnings.
+        const RunResult r = run(tiny(c.args));
+        EXPECT_EQ(r.exit_code, 0) << join(c.args) << "\n" << r.err;
+        if (c.warning.empty()) {
+            EXPECT_EQ(r.err, "") << join(c.args);
+        } else {
+            EXPECT_TRUE(is_one_line(r.err)) << join(c.args) << "\n" << r.err;
+            EXPECT_EQ(r.err.rfind("pathtracer: warning: " + c.warning, 0), 0u) << join(c.args) << "\n" << r.err;
+        }
+    }
+}
+
+TEST_F(Cli, OpenRefractingMeshIsWarnedAboutByName) {
+    // One triangle of glass: it cannot bound a volume.
+    write_file(m_dir / "tri.ply",
+               "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+               "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+    write_file(m_dir / "s.json",
+               "{\"camera\": {\"position\": [0, 0, 3], \"look_at\": [0, 0, 0]}, \"materials\": {\"glass\": "
+               "{\"kt\": 1, \"ior\": 1.5}}, \"shapes\": [{\"type\": \"mesh\", \"file\": \"tri.ply\", \"material\": \"glass\"}]}");
+    const RunResult r = run(tiny({"s.json", "-o", "s.png"}));
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_TRUE(is_one_line(r.err)) << r.err;
+    EXPECT_NE(r.err.find("warning: mesh (shape 0)"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("tri.ply"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("not closed"), std::string::npos) << r.err;
+}
+
+TEST_F(Cli, SummaryGivesLoadTimeBvhTimeAndPeakMemory) {
+    const RunResult r = run({"showcase", "--width", "8", "--height", "6", "--spp", "1", "-o", "s.png"});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const std::regex line(R"(\n  scene loaded in [0-9.]+ s \(BVH built in [0-9.]+ s\); peak memory ([0-9]+) MiB\n)");
+    std::smatch m;
+    ASSERT_TRUE(std::regex_search(r.err, m, line)) << r.err;
+    EXPECT_GT(std::stoi(m[1].str()), 0);
 }
 
 }  // namespace

@@ -147,8 +147,8 @@ class Config:
             f.append("--no-dispersion")
         if self.max_depth is not None:
             f += ["--max-depth", str(self.max_depth)]
-        if self.integrator != "path":
-            f += ["--integrator", self.integrator]
+        # Always named: a scene file may choose another integrator than path.
+        f += ["--integrator", self.integrator]
         return f
 
 
@@ -305,7 +305,7 @@ def reference(ctx: Ctx, scene: str, size: tuple[int, int], spp: int, integrator:
                 f"{ctx.threads} threads) ...")
             tmp = ctx.scratch / "ref.pfm"
             flags = ["--spp", str(half), "--spectral-bins", "exact", "--wavelengths-per-path", "4",
-                     "--seed", str(REFERENCE_SEED + i)] + (["--integrator", integrator] if integrator != "path" else [])
+                     "--seed", str(REFERENCE_SEED + i), "--integrator", integrator]
             run = render(ctx, scene, size, flags, tmp)
             store(tmp, path)
             meta.setdefault("halves", {})[str(i)] = {

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 
+#include "core/text.h"
 #include "io/image_writer.h"
 #include "spectral/color_space.h"
 
@@ -29,6 +30,17 @@ double parse_real(const std::string& flag, const std::string& text, double lo, d
         !std::isfinite(value) || value < lo || value > hi)
         throw UsageError(flag + ": expected " + what + ", got '" + text + "'");
     return value;
+}
+
+/// Every flag parse_options knows (for "did you mean").
+const std::vector<std::string>& known_flags() {
+    static const std::vector<std::string> flags = {
+        "--help", "--version", "--list-scenes", "--rgb-to-spectrum", "--quiet", "--spp", "--width",
+        "--height", "--output", "--exposure", "--color-resolution", "--color-space", "--spectral-bins",
+        "--threads", "--seed", "--checkpoint", "--resume", "--checkpoint-interval", "--time-limit",
+        "--wavelengths-per-path", "--integrator", "--light-sampling", "--merge-radius",
+        "--no-dispersion", "--pass-spp", "--max-depth"};
+    return flags;
 }
 
 }  // namespace
@@ -148,13 +160,13 @@ Options parse_options(const std::vector<std::string>& args) {
             o.color_resolution = parse_integer<std::uint64_t>(flag, next_value(), 2, 1ull << 62,
                                                               "an integer from 2 to 2^62");
         } else if (flag == "--color-space") {
-            o.color_space = next_value();
+            o.color_space = lowercase(next_value());
             if (!color_space_by_name(o.color_space))
                 throw UsageError(flag + ": expected srgb, rec2020, acescg or xyz, got '" +
                                  o.color_space + "'");
         } else if (flag == "--spectral-bins") {
             const std::string v = next_value();
-            o.spectral.bins = v == "exact" ? SpectralResolution::kExact
+            o.spectral.bins = equal_ignoring_case(v, "exact") ? SpectralResolution::kExact
                                            : parse_integer<int>(flag, v, SpectralResolution::kMinBins,
                                                                 SpectralResolution::kMaxBins,
                                                                 "an integer from 1 to 1024 or 'exact'");
@@ -181,15 +193,16 @@ Options parse_options(const std::vector<std::string>& args) {
             o.wavelengths_per_path = v == "1" ? 1 : 4;
         } else if (flag == "--integrator") {
             const std::string v = next_value();
-            const std::optional<IntegratorKind> kind = integrator_from_name(v);
-            if (!kind) throw UsageError(flag + ": expected path, bdpt or vcm, got '" + v + "'");
-            o.integrator = *kind;
+            o.integrator = integrator_from_name(v);
+            if (!o.integrator)
+                throw UsageError(flag + ": expected path, bdpt or vcm, got '" + v + "'." +
+                                 suggestion(v, {"path", "bdpt", "vcm"}));
         } else if (flag == "--light-sampling") {
             const std::string v = next_value();
-            if (v == "mis") o.light_sampling = LightSampling::mis;
-            else if (v == "bsdf") o.light_sampling = LightSampling::bsdf;
-            else if (v == "light") o.light_sampling = LightSampling::light;
-            else throw UsageError(flag + ": expected mis, bsdf or light, got '" + v + "'");
+            o.light_sampling = light_sampling_from_name(v);
+            if (!o.light_sampling)
+                throw UsageError(flag + ": expected mis, bsdf or light, got '" + v + "'." +
+                                 suggestion(v, {"mis", "bsdf", "light"}));
         } else if (flag == "--merge-radius") {
             o.merge_radius = parse_real(flag, next_value(), 1e-12, 1e12, "a radius from 1e-12 to 1e12");
         } else if (flag == "--no-dispersion") {
@@ -199,13 +212,15 @@ Options parse_options(const std::vector<std::string>& args) {
         } else if (flag == "--max-depth") {
             o.max_depth = parse_integer<int>(flag, next_value(), 0, 100000, "an integer from 0 to 100000");
         } else if (!arg.empty() && arg[0] == '-') {
-            throw UsageError(arg + ": unknown option (see --help)");
+            throw UsageError(arg + ": unknown option (see --help)." + suggestion(flag, known_flags()));
         } else {
             if (scene_given)
                 throw UsageError("SCENE: expected one scene, got '" + o.scene + "' and '" + arg + "'");
             o.scene = arg;
             scene_given = true;
         }
+        if (flag.starts_with("--")) o.given.insert(flag);
+        else if (flag == "-o") o.given.insert("--output");
         if (inline_value && (flag == "-h" || flag == "--help" || flag == "--version" ||
                              flag == "--list-scenes" || flag == "--quiet" || flag == "--no-dispersion"))
             throw UsageError(flag + ": takes no value");

@@ -3,6 +3,7 @@
 #include <array>
 #include <cstdint>
 #include <optional>
+#include <set>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -26,10 +27,11 @@ struct Options {
     std::string color_space = "srgb";
     int threads = 0;
     std::uint64_t seed = 0;
-    int max_depth = -1;
-    IntegratorKind integrator = IntegratorKind::path;
-    LightSampling light_sampling = LightSampling::mis;  ///< path: how emitters are found
-    double merge_radius = 0;          ///< vcm's first radius; 0: automatic
+    // Integrator settings: unset, the scene file's choice applies, else the default.
+    std::optional<int> max_depth;                   ///< default: unbounded
+    std::optional<IntegratorKind> integrator;       ///< default: path
+    std::optional<LightSampling> light_sampling;    ///< path: how emitters are found (default mis)
+    std::optional<double> merge_radius;             ///< vcm's first radius (default: automatic)
     int wavelengths_per_path = 4;  ///< 1 or 4
     bool dispersion = true;        ///< false: dispersive glass gets its mean index
     int pass_spp = 0;  ///< samples per pass (0: automatic); does not change the image
@@ -39,6 +41,8 @@ struct Options {
     double checkpoint_interval = 300;  ///< seconds between checkpoints (after a whole pass)
     std::string resume;                ///< continue the render saved in this checkpoint
     bool quiet = false;
+    /// Every flag given, by its long name ("--spp"), for warnings about flags without effect.
+    std::set<std::string> given;
     bool show_help = false;
     bool show_version = false;
     bool list_scenes = false;

@@ -8,37 +8,11 @@
 #include <string_view>
 
 #include "core/rng.h"
+#include "render/integrator_kind.h"
 #include "scene/scene.h"
 #include "spectral/sampled.h"
 
 namespace spt {
-
-/// Which estimator renders the image: unidirectional path tracing (the default),
-/// bidirectional path tracing (bdpt.h), or bidirectional path tracing with vertex merging
-/// (vcm: bdpt.h, vertex_merging.h).
-enum class IntegratorKind { path, bdpt, vcm };
-
-/// The command-line name of an integrator, and back (nullopt for an unknown name).
-constexpr const char* integrator_name(IntegratorKind kind) {
-    switch (kind) {
-        case IntegratorKind::bdpt: return "bdpt";
-        case IntegratorKind::vcm: return "vcm";
-        case IntegratorKind::path: break;
-    }
-    return "path";
-}
-constexpr std::optional<IntegratorKind> integrator_from_name(std::string_view name) {
-    for (IntegratorKind k : {IntegratorKind::path, IntegratorKind::bdpt, IntegratorKind::vcm})
-        if (name == integrator_name(k)) return k;
-    return std::nullopt;
-}
-
-/// How the path tracer finds lights other than point lights: next-event estimation and BSDF
-/// sampling combined by MIS (the default), BSDF sampling alone (emission counted only where
-/// paths hit it: the estimator before light sampling), or light sampling alone (emission that
-/// BSDF sampling finds after a non-delta bounce is not counted). All three are unbiased; the
-/// last two exist to measure what MIS buys and to test it.
-enum class LightSampling { mis, bsdf, light };
 
 struct IntegratorSettings {
     static constexpr int kUnbounded = -1;

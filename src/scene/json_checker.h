@@ -9,6 +9,7 @@
 #include <string_view>
 #include <vector>
 
+#include "core/text.h"
 #include "core/vec3.h"
 #include "io/json.h"
 
@@ -18,8 +19,6 @@ namespace spt {
 /// enough that products of coordinates stay finite in float.
 inline constexpr double kMaxSceneCoordinate = 1e15;
 
-/// " Did you mean "x"?" when a candidate is close to `word` (edit distance), else "".
-std::string suggestion(std::string_view word, const std::vector<std::string>& candidates);
 /// "a, b, c".
 std::string join(const std::vector<std::string>& words);
 /// A user string quoted and shortened for messages (control characters shown as '?').

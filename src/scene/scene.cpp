@@ -2,6 +2,7 @@
 // analysis of which effects the scene calls for.
 #include "scene/scene.h"
 
+#include <chrono>
 #include <cmath>
 #include <sstream>
 
@@ -243,7 +244,9 @@ void Scene::finalize() {
     // disk, cylinder or cone (the loop below the threshold knows spheres and triangles only).
     m_bvh = Bvh{};
     const bool quadrics = !disks.empty() || !cylinders.empty() || !cones.empty();
+    const auto bvh_start = std::chrono::steady_clock::now();
     if (spheres.size() + triangles.size() > kBvhThreshold || quadrics) m_bvh.build(bvh_shapes());
+    bvh_build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - bvh_start).count();
     m_use_bvh = !m_bvh.empty();
     m_sphere_lanes.build(m_use_bvh ? std::vector<Sphere>{} : spheres);
     std::vector<Sphere> bounds;

@@ -18,6 +18,7 @@
 #include "model/lights/light.h"
 #include "model/lights/light_distribution.h"
 #include "model/material.h"
+#include "render/integrator_kind.h"
 #include "scene/effects.h"
 
 namespace spt {
@@ -32,10 +33,27 @@ struct SceneError : std::runtime_error {
 /// naming the defect.
 void validate_material(const Material& m);
 
+/// How a scene file asks to be rendered ("integrator" key); each field the command line
+/// gives overrides it.
+struct IntegratorPreset {
+    std::optional<IntegratorKind> kind;
+    std::optional<int> max_depth;
+    std::optional<LightSampling> light_sampling;  ///< path only
+    std::optional<double> merge_radius;           ///< vcm only
+};
+
 struct Scene {
     std::string name;
+    /// One line for --list-scenes: the file's "summary", else the first sentence of its
+    /// "description" (empty when it has neither).
+    std::string summary;
     CameraSpec camera;
     int width = 512, height = 512, spp = 128;  ///< defaults the command line may override
+    IntegratorPreset integrator;               ///< the scene's choice; the command line overrides
+    /// Things that render but probably not as the author meant (an open or inward-facing
+    /// refracting mesh), one line each, for the program to print.
+    std::vector<std::string> warnings;
+    double bvh_build_seconds = 0;  ///< time finalize() spent building the BVH (0: none)
 
     std::vector<Material> materials;
     std::vector<Sphere> spheres;

@@ -14,6 +14,7 @@
 #include <stdexcept>
 
 #include "io/embedded_files.h"
+#include "geometry/mesh_closure.h"
 #include "io/ply_reader.h"
 #include "scene/json_checker.h"
 #include "scene/spectrum_parser.h"
@@ -32,10 +33,13 @@ public:
     Scene load(const JsonValue& root, const std::string& name) {
         m_scene.name = name;
         const JsonValue& top = object(root, "the scene");
-        check_keys(top, "the scene", {"description", "camera", "image", "background", "materials", "shapes", "lights"});
-        if (const JsonValue* d = top.find("description")) string(*d, "description");
+        check_keys(top, "the scene",
+                   {"description", "summary", "camera", "image", "integrator", "background", "materials", "shapes", "lights"});
+        if (const JsonValue* d = top.find("description")) m_scene.summary = first_sentence(string(*d, "description"));
+        if (const JsonValue* s = top.find("summary")) m_scene.summary = one_line(*s, "summary");
         camera(required(top, "camera", "the scene"));
         if (const JsonValue* image = top.find("image")) image_settings(*image);
+        if (const JsonValue* integrator = top.find("integrator")) integrator_preset(*integrator);
         if (const JsonValue* bg = top.find("background"))
             m_scene.set_background(spectrum(*bg, "background", SpectrumUse::Emission));
         if (const JsonValue* mats = top.find("materials")) materials(*mats);
@@ -92,6 +96,70 @@ private:
         if (double(m_scene.width) * m_scene.height > double(1 << 28))
             fail(v.pos(), "image of " + std::to_string(m_scene.width) + "x" + std::to_string(m_scene.height) +
                               " pixels is too large; expected at most 268435456 pixels");
+    }
+
+    /// The text up to the first ". " (or all of it).
+    static std::string first_sentence(const std::string& text) {
+        const std::size_t end = text.find(". ");
+        return end == std::string::npos ? text : text.substr(0, end + 1);
+    }
+
+    std::string one_line(const JsonValue& v, const std::string& what) const {
+        const std::string& text = string(v, what);
+        if (text.find_first_of("\n\r") != std::string::npos)
+            fail(v.pos(), what + " has a line break; expected one line");
+        return text;
+    }
+
+    /// "integrator": "vcm", or {"type": "vcm", "max_depth": D, "merge_radius": R} (and
+    /// "light_sampling" for path): the settings a scene renders best with.
+    void integrator_preset(const JsonValue& v) {
+        IntegratorPreset& p = m_scene.integrator;
+        const JsonValue* type = &v;
+        if (!v.is_object() && !v.is_string())
+            wrong_type(v, "integrator", "a name (path, bdpt or vcm) or an object with \"type\"");
+        if (v.is_object()) {
+            check_keys(v, "integrator", {"type", "max_depth", "light_sampling", "merge_radius"});
+            type = &required(v, "type", "integrator");
+        }
+        const std::string& name = string(*type, "integrator type");
+        const std::vector<std::string> names = {"path", "bdpt", "vcm"};
+        p.kind = integrator_from_name(name);
+        if (!p.kind)
+            fail(type->pos(), "unknown integrator " + quote_text(name) + "." + suggestion(name, names) +
+                                  " Expected one of: " + join(names));
+        if (!v.is_object()) return;
+        if (const JsonValue* d = v.find("max_depth")) p.max_depth = integer_in(*d, "integrator max_depth", 0, 100000);
+        if (const JsonValue* ls = v.find("light_sampling")) {
+            if (*p.kind != IntegratorKind::path)
+                fail(ls->pos(), "integrator light_sampling applies to the path integrator only; expected no "
+                                "light_sampling with " + name);
+            const std::string& mode = string(*ls, "integrator light_sampling");
+            p.light_sampling = light_sampling_from_name(mode);
+            if (!p.light_sampling)
+                fail(ls->pos(), "unknown light_sampling " + quote_text(mode) + "." +
+                                    suggestion(mode, {"mis", "bsdf", "light"}) + " Expected one of: mis, bsdf, light");
+        }
+        if (const JsonValue* r = v.find("merge_radius")) {
+            if (*p.kind != IntegratorKind::vcm)
+                fail(r->pos(), "integrator merge_radius applies to vcm only; expected no merge_radius with " + name);
+            p.merge_radius = number_in(*r, "integrator merge_radius", 1e-12, 1e12, true);
+        }
+    }
+
+    /// A refracting mesh must bound a volume with its faces pointing out, or rays inside and
+    /// outside swap their indices: warn (the image is still what the file describes).
+    void check_refracting_mesh(const std::vector<Vec3>& p, const PlyMesh& mesh, int material,
+                               const std::string& what, const std::string& display) {
+        const MeshClosure c = mesh_closure(p, mesh.triangles);
+        const std::string head = what + " (" + display + ", material " +
+                                 quote_text(m_scene.materials[material].name) + ") refracts but ";
+        if (!c.closed)
+            m_scene.warnings.push_back(head + "is not closed (an edge without exactly one opposite neighbour): "
+                                              "rays can enter without leaving, so inside and outside are undefined");
+        else if (c.signed_volume < 0)
+            m_scene.warnings.push_back(head + "has its faces pointing inward (negative signed volume): "
+                                              "rays entering it are treated as leaving glass; reverse the vertex order of its faces");
     }
 
     // ---------------------------- Materials ----------------------------
@@ -379,6 +447,7 @@ private:
                 ++added;
             }
             if (added == 0) fail(fv.pos(), what + ": " + quote_text(display) + " has no triangle of non-zero area; expected at least one");
+            if (m_scene.materials[m.material].flags.has(BsdfFlags::transmission)) check_refracting_mesh(p, mesh, m.material, what, display);
         } else if (type == "disk") {
             check_keys(v, what, {"type", "center", "normal", "radius", "material", "emission"});
             Disk d;

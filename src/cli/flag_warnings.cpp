@@ -1,0 +1,37 @@
+// Each rule: the flag, the condition under which it does nothing, and the reason shown.
+#include "cli/flag_warnings.h"
+
+#include <algorithm>
+
+#include "io/image_writer.h"
+
+namespace spt {
+
+std::vector<std::string> ineffective_flag_warnings(const Options& options, const IntegratorSettings& integrator,
+                                                   const std::vector<std::string>& outputs, const Scene& scene) {
+    auto writes = [&](ImageFormat f) {
+        return std::any_of(outputs.begin(), outputs.end(),
+                           [&](const std::string& path) { return image_format_from_path(path) == f; });
+    };
+    const bool linear_output = writes(ImageFormat::Exr) || writes(ImageFormat::Pfm) || writes(ImageFormat::Ppm);
+    const std::string kind = integrator_name(integrator.kind);
+    const struct {
+        const char* flag;
+        bool ineffective;
+        std::string why;
+    } rules[] = {
+        {"--merge-radius", integrator.kind != IntegratorKind::vcm, "with the " + kind + " integrator (vcm only)"},
+        {"--light-sampling", integrator.kind != IntegratorKind::path, "with the " + kind + " integrator (path only)"},
+        {"--exposure", !writes(ImageFormat::Png), "without a .png output (EXR, PFM and PPM stay linear)"},
+        {"--color-resolution", !writes(ImageFormat::Ppm), "without a .ppm output"},
+        {"--color-space", !linear_output, "with only .png outputs (a PNG is always sRGB)"},
+        {"--checkpoint-interval", options.checkpoint.empty(), "without --checkpoint"},
+        {"--no-dispersion", !scene.effects.dispersion, "in a scene without dispersive glass"},
+    };
+    std::vector<std::string> warnings;
+    for (const auto& r : rules)
+        if (r.ineffective && options.given.count(r.flag)) warnings.push_back(std::string(r.flag) + " has no effect " + r.why);
+    return warnings;
+}
+
+}  // namespace spt

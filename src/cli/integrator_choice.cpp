@@ -1,0 +1,26 @@
+// Command line first, then the scene file, then the defaults of IntegratorSettings.
+#include "cli/integrator_choice.h"
+
+namespace spt {
+
+IntegratorChoice choose_integrator(const Options& options, const Scene& scene) {
+    const IntegratorPreset& preset = scene.integrator;
+    IntegratorChoice c;
+    IntegratorSettings& s = c.settings;
+    s.kind = options.integrator.value_or(preset.kind.value_or(s.kind));
+    c.reason = options.integrator ? "chosen by --integrator"
+               : preset.kind      ? "the scene's choice (--integrator overrides it)"
+                                  : "the default";
+    s.max_depth = options.max_depth.value_or(preset.max_depth.value_or(s.max_depth));
+    // The scene's mode and radius belong to the integrator it names: a different integrator
+    // from the command line starts from the defaults.
+    const bool scene_integrator = preset.kind && *preset.kind == s.kind;
+    s.light_sampling = options.light_sampling.value_or(
+        scene_integrator ? preset.light_sampling.value_or(s.light_sampling) : s.light_sampling);
+    s.merge_radius = static_cast<float>(options.merge_radius.value_or(
+        scene_integrator ? preset.merge_radius.value_or(s.merge_radius) : s.merge_radius));
+    s.wavelengths_per_path = options.wavelengths_per_path;
+    return c;
+}
+
+}  // namespace spt

@@ -1,0 +1,21 @@
+// Which integrator renders, with which settings, and why: the command line overrides the
+// scene file's "integrator" field by field, and the defaults fill the rest.
+#pragma once
+#include <string>
+
+#include "cli/options.h"
+#include "render/integrator.h"
+#include "scene/scene.h"
+
+namespace spt {
+
+struct IntegratorChoice {
+    IntegratorSettings settings;
+    /// Why settings.kind is what it is, for the summary: "chosen by --integrator",
+    /// "the scene's choice" or "the default".
+    std::string reason;
+};
+
+IntegratorChoice choose_integrator(const Options& options, const Scene& scene);
+
+}  // namespace spt
