@@ -9,7 +9,7 @@ IntegratorChoice choose_integrator(const Options& options, const Scene& scene) {
     IntegratorSettings& s = c.settings;
     s.kind = options.integrator.value_or(preset.kind.value_or(s.kind));
     c.reason = options.integrator ? "chosen by --integrator"
-               : preset.kind      ? "the scene's choice (--integrator overrides it)"
+               : preset.kind      ? "the scene's choice; --integrator overrides it"
                                   : "the default";
     s.max_depth = options.max_depth.value_or(preset.max_depth.value_or(s.max_depth));
     // The scene's mode and radius belong to the integrator it names: a different integrator
