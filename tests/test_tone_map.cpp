@@ -1,7 +1,8 @@
 // Tone curves (src/io/tone_map.h): the PBR Neutral curves' shape (monotone under exposure,
 // below 1 everywhere, continuous at toe and knee, hue kept, the stated white inputs, the
 // linear range of the Khronos specification) and the clip curve's definition. The clip curve's
-// PNG bytes are checked against hand-computed codes in test_image_io.cpp.
+// PNG bytes are checked against hand-computed codes in test_image_io.cpp. Also the automatic
+// exposure that precedes the curve (src/io/auto_exposure.h).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -9,6 +10,7 @@
 #include <limits>
 #include <vector>
 
+#include "io/auto_exposure.h"
 #include "io/tone_map.h"
 
 namespace spt {
@@ -164,6 +166,28 @@ TEST(ToneMap, ClipIsMinOfOnePerChannel) {
     const double nan = std::numeric_limits<double>::quiet_NaN();
     EXPECT_EQ(tone_map(ToneMap::clip, {0.25, 1.0, 7.0}), (Rgb{0.25, 1.0, 1.0}));
     EXPECT_EQ(tone_map(ToneMap::clip, {-0.5, nan, 0.0}), (Rgb{0, 0, 0}));
+}
+
+/// An image whose pixels are greys of the given luminances (R = G = B = Y in sRGB).
+Image grey_image(const std::vector<float>& luminance) {
+    Image image{static_cast<int>(luminance.size()), 1, {}};
+    for (float y : luminance) image.rgb.insert(image.rgb.end(), {y, y, y});
+    return image;
+}
+
+TEST(AutoExposure, BringsTheMedianOfNonBlackPixelsToMiddleGrey) {
+    const ColorSpace& srgb = srgb_color_space();
+    // Median of {0.09, 0.36, 2.0} is 0.36: one stop down to 0.18; the black pixels are left
+    // out (counting them would make the median 0.09 and the answer +1).
+    EXPECT_NEAR(auto_exposure_stops(grey_image({0, 0.36f, 0, 2.0f, 0.09f, 0}), srgb), -1.0, 1e-6);
+    // An even count: the mean of the middle two, (0.045 + 0.135)/2 = 0.09, is one stop below.
+    EXPECT_NEAR(auto_exposure_stops(grey_image({0.135f, 0.01f, 5.0f, 0.045f}), srgb), 1.0, 1e-6);
+    // Luminance weights are the space's Y row: pure blue of 1 has Y = 0.0722.
+    const Image blue{1, 1, {0, 0, 1}};
+    EXPECT_NEAR(auto_exposure_stops(blue, srgb), std::log2(0.18 / srgb.to_xyz[1][2]), 1e-12);
+    // Nothing to measure, and the --exposure range as the limit.
+    EXPECT_EQ(auto_exposure_stops(grey_image({0, 0}), srgb), 0.0);
+    EXPECT_EQ(auto_exposure_stops(grey_image({1e-30f}), srgb), 20.0);
 }
 
 }  // namespace

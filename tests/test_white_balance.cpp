@@ -39,7 +39,8 @@ TEST(WhiteBalance, BradfordIsDiagonalInItsConeSpace) {
     // only maps white to white (e.g. a scaling in XYZ) fails this.
     const Chromaticity f11 = *illuminant_xy("F11"), d50 = *illuminant_xy("D50");
     const Matrix3 cone = kBradford * bradford_adaptation(f11, d50) * invert(kBradford);
-    const std::array<double, 3> s = spt::apply(kBradford, xyz_of(f11)), t = spt::apply(kBradford, xyz_of(d50));
+    const std::array<double, 3> s = spt::apply(kBradford, xyz_of(f11));
+    const std::array<double, 3> t = spt::apply(kBradford, xyz_of(d50));
     for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j) EXPECT_NEAR(cone[i][j], i == j ? t[i] / s[i] : 0.0, 1e-14);
 }
@@ -76,7 +77,8 @@ Chromaticity table_xy(const std::string& file) {
 TEST(WhiteBalance, NamedWhitesAreTheCieSpectraCompiledIn) {
     // The published xy (4-5 decimals) against the xy of the tables: A and D65 not swapped or
     // mistyped beyond the published rounding.
-    for (const auto& [name, file] : {std::pair{"A", "cie_a.csv"}, std::pair{"D65", "cie_d65.csv"}}) {
+    for (const auto& [name, file] :
+         {std::pair{"A", "cie_a.csv"}, std::pair{"D65", "cie_d65.csv"}}) {
         const Chromaticity named = *illuminant_xy(name), computed = table_xy(file);
         EXPECT_NEAR(named[0], computed[0], 1e-4) << name;
         EXPECT_NEAR(named[1], computed[1], 1e-4) << name;

@@ -15,8 +15,8 @@ int derived_side(double exact, const char* flag) {
     const double side = std::max(1.0, std::round(exact));
     if (side > kMaxImageSide)
         throw UsageError(std::string(flag) + ": the image would be " +
-                         std::to_string(static_cast<long long>(side)) + " pixels on a side (at most " +
-                         std::to_string(kMaxImageSide) + ")");
+                         std::to_string(static_cast<long long>(side)) +
+                         " pixels on a side (at most " + std::to_string(kMaxImageSide) + ")");
     return static_cast<int>(side);
 }
 

@@ -53,8 +53,10 @@ Options:
   --auto-exposure        PNG: also add the stops that bring the median luminance of the
                          non-black pixels to 0.18 (middle grey); the summary prints them
   --tonemap CURVE        PNG tone curve after exposure: neutral (default: Khronos PBR
-                         Neutral, hue-preserving highlight shoulder; a grey reaches white
-                         at 13.5) or clip (each channel clipped at 1)
+                         Neutral with F90 = 0, the identity up to 0.8, then a hue-keeping
+                         shoulder; a grey reaches white at 9.57), pbr-neutral (the Khronos
+                         curve as specified: 0.04 darker, white at 13.5) or clip (each
+                         channel clipped at 1). EXR, PFM and PPM are never tone-mapped
   --white-balance WHITE  adapt colours seen under WHITE to the output's white (Bradford),
                          for every output: A, D50, D55, D65, D75, E, F2, F11 (CIE xy) or a
                          temperature 1000K to 25000K (Planckian below 4000 K, CIE daylight
@@ -153,7 +155,8 @@ Options parse_options(const std::vector<std::string>& args) {
         } else if (flag == "--tonemap") {
             const std::string v = next_value();
             const std::optional<ToneMap> map = tone_map_from_name(v);
-            if (!map) throw UsageError(flag + ": expected neutral or clip, got '" + v + "'");
+            if (!map)
+                throw UsageError(flag + ": expected neutral, pbr-neutral or clip, got '" + v + "'");
             o.tone_map = *map;
         } else if (flag == "--auto-exposure") {
             o.auto_exposure = true;
@@ -237,8 +240,8 @@ Options parse_options(const std::vector<std::string>& args) {
             scene_given = true;
         }
         if (inline_value && (flag == "-h" || flag == "--help" || flag == "--version" ||
-                             flag == "--list-scenes" || flag == "--quiet" || flag == "--no-dispersion" ||
-                             flag == "--auto-exposure"))
+                             flag == "--list-scenes" || flag == "--quiet" ||
+                             flag == "--no-dispersion" || flag == "--auto-exposure"))
             throw UsageError(flag + ": takes no value");
     }
     if (o.scale && (o.width || o.height))

@@ -20,7 +20,8 @@ double auto_exposure_stops(const Image& image, const ColorSpace& space) {
     const std::size_t n = luminance.size(), mid = n / 2;
     std::nth_element(luminance.begin(), luminance.begin() + mid, luminance.end());
     double median = luminance[mid];
-    if (n % 2 == 0) median = 0.5 * (median + *std::max_element(luminance.begin(), luminance.begin() + mid));
+    if (n % 2 == 0)  // the largest of the lower half is the other middle value
+        median = 0.5 * (median + *std::max_element(luminance.begin(), luminance.begin() + mid));
     return std::clamp(std::log2(kAutoExposureKey / median), -20.0, 20.0);
 }
 
