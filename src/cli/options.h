@@ -37,7 +37,7 @@ struct Options {
     bool dispersion = true;        ///< false: dispersive glass gets its mean index
     int pass_spp = 0;  ///< samples per pass (0: automatic); does not change the image
     double exposure = 0.0;
-    bool auto_exposure = false;  ///< PNG: add the stops that put the image's key at middle grey
+    bool auto_exposure = false;  ///< PNG: add the stops that take the median luminance to 0.18
     ToneMap tone_map = kDefaultToneMap;  ///< PNG: the curve after exposure
     std::optional<Chromaticity> white_balance;  ///< adapt this white to the output space's white
     std::string checkpoint;            ///< save the film state here (empty: never)
