@@ -51,7 +51,8 @@ void print_summary(const spt::Scene& scene, const spt::RenderSettings& rs, const
 }
 
 /// Writes every output; returns the stops --auto-exposure added to the PNGs (nullopt without it).
-std::optional<double> write_outputs(const spt::Options& opt, const std::vector<std::string>& outputs,
+std::optional<double> write_outputs(const spt::Options& opt,
+                                    const std::vector<std::string>& outputs,
                                     const spt::Film& film) {
     // White balance is a colour transform, so it reaches the linear outputs too.
     const auto balanced = [&](const spt::ColorSpace& cs) {

@@ -55,8 +55,8 @@ def survey(program: Path, scale: float, seed: int, workdir: Path) -> list[dict]:
     rows = []
     for scene in scenes:
         row = {"scene": scene}
-        for label, flags in SETTINGS.items():
-            out = workdir / f"{scene}-{len(row)}.png"
+        for index, (label, flags) in enumerate(SETTINGS.items()):
+            out = workdir / f"{scene}-{index}.png"
             command = [str(program), scene, "--scale", str(scale), "--seed", str(seed),
                        "-o", str(out)] + flags
             result = subprocess.run(command, capture_output=True, text=True)
@@ -68,14 +68,15 @@ def survey(program: Path, scale: float, seed: int, workdir: Path) -> list[dict]:
             stops = re.search(r"auto exposure: ([-+]\d+\.\d) stops", result.stderr)
             if stops:
                 row["auto stops"] = stops[1]
-            print(f"{scene:16s} {label:24s} clipped {row[label][0]:5.1f} %  mean {row[label][1]:5.1f}"
-                  f"  dark {row[label][2]:5.1f} %", flush=True)
+            clipped, mean, dark = row[label]
+            print(f"{scene:16s} {label:24s} clipped {clipped:5.1f} %  mean {mean:5.1f}"
+                  f"  dark {dark:5.1f} %", flush=True)
         rows.append(row)
     return rows
 
 
 def markdown(rows: list[dict], program: Path, scale: float, seed: int) -> str:
-    lines = [f"# PNG tone curves on the built-in scenes\n",
+    lines = ["# PNG tone curves on the built-in scenes\n",
              f"`validation/tone_map_survey.py --scale {scale} --seed {seed}` with `{program}`: "
              "each scene at its default spp; per PNG, % of pixels with a channel at 255 "
              f"(clipped), mean 8-bit code (mean), % of pixels with every channel <= {DARK_CODE} "
