@@ -1,6 +1,7 @@
 # Explicit source list of the spt_core library (everything but main.cpp).
 set(SPT_CORE_SOURCES
     src/cli/flag_warnings.cpp
+    src/cli/image_size.cpp
     src/cli/integrator_choice.cpp
     src/cli/options.cpp
     src/cli/progress_bar.cpp
@@ -8,6 +9,7 @@ set(SPT_CORE_SOURCES
     src/geometry/bvh.cpp
     src/geometry/mesh_closure.cpp
     src/io/atomic_file.cpp
+    src/io/auto_exposure.cpp
     src/model/bsdfs/lobe_mix.cpp
     src/io/embedded_files.cpp
     src/io/exr_writer.cpp
@@ -17,6 +19,7 @@ set(SPT_CORE_SOURCES
     src/io/ply_reader.cpp
     src/io/png_writer.cpp
     src/io/ppm_writer.cpp
+    src/io/tone_map.cpp
     src/render/bdpt.cpp
     src/render/photon_grid.cpp
     src/render/vertex_merging.cpp
@@ -31,6 +34,7 @@ set(SPT_CORE_SOURCES
     src/scene/scene.cpp
     src/scene/scene_loader.cpp
     src/scene/spectrum_parser.cpp
+    src/spectral/chromatic_adaptation.cpp
     src/spectral/cie.cpp
     src/spectral/glass_catalog.cpp
     src/spectral/color_space.cpp

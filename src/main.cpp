@@ -13,9 +13,11 @@
 
 #include "cli/flag_warnings.h"
 #include "cli/integrator_choice.h"
+#include "cli/image_size.h"
 #include "cli/options.h"
 #include "cli/progress_bar.h"
 #include "io/atomic_file.h"
+#include "io/auto_exposure.h"
 #include "io/image_writer.h"
 #include "render/checkpoint.h"
 #include "render/renderer.h"
@@ -63,34 +65,60 @@ void print_summary(const spt::Scene& scene, const spt::RenderSettings& rs, const
                  static_cast<unsigned long long>(film.rejected_negative()));
 }
 
-void write_outputs(const spt::Options& opt, const std::vector<std::string>& outputs, const spt::Film& film) {
-    const spt::ColorSpace space = *spt::color_space_by_name(opt.color_space);
+/// Writes every output; returns the stops --auto-exposure added to the PNGs (nullopt without it).
+std::optional<double> write_outputs(const spt::Options& opt,
+                                    const std::vector<std::string>& outputs,
+                                    const spt::Film& film) {
+    // White balance is a colour transform, so it reaches the linear outputs too.
+    const auto balanced = [&](const spt::ColorSpace& cs) {
+        return opt.white_balance ? spt::white_balanced(cs, *opt.white_balance) : cs;
+    };
+    const spt::ColorSpace space = balanced(*spt::color_space_by_name(opt.color_space));
     const spt::Image image = film.develop(space);
     // A PNG is an sRGB file by definition: it is always developed to sRGB, whatever the
     // --color-space of the linear outputs.
     std::optional<spt::Image> srgb_image;
+    const spt::ColorSpace srgb = balanced(spt::srgb_color_space());
     spt::ImageWriteOptions wo;
     wo.exposure_stops = opt.exposure;
+    wo.tone_map = opt.tone_map;
     wo.color_resolution = opt.color_resolution;
     wo.chromaticities = {{float(space.red[0]), float(space.red[1])},
                          {float(space.green[0]), float(space.green[1])},
                          {float(space.blue[0]), float(space.blue[1])},
                          {float(space.white[0]), float(space.white[1])}};
+    std::optional<double> auto_stops;
     std::vector<std::pair<std::string, std::string>> files;
     for (const std::string& path : outputs) {
         const spt::ImageFormat format = *spt::image_format_from_path(path);  // checked by the parser
         const spt::Image* source = &image;
         if (format == spt::ImageFormat::Png && space.name != "srgb") {
-            if (!srgb_image) srgb_image = film.develop(spt::srgb_color_space());
+            if (!srgb_image) srgb_image = film.develop(srgb);
             source = &*srgb_image;
         }
+        spt::ImageWriteOptions file_options = wo;
+        if (format == spt::ImageFormat::Png && opt.auto_exposure) {
+            if (!auto_stops) auto_stops = spt::auto_exposure_stops(*source, srgb);
+            file_options.exposure_stops += *auto_stops;
+        }
         try {
-            files.emplace_back(path, spt::encode_image(*source, format, wo));
+            files.emplace_back(path, spt::encode_image(*source, format, file_options));
         } catch (const std::invalid_argument& e) {
             throw std::runtime_error("cannot write '" + path + "': " + e.what());
         }
     }
     spt::write_files_atomically(files);  // all or nothing
+    return auto_stops;
+}
+
+/// --print-adaptation: both whites' xy, then the XYZ → XYZ matrix row by row.
+void print_adaptation(const spt::Options& opt) {
+    const spt::Chromaticity source = *opt.print_adaptation;
+    const spt::Chromaticity target = spt::color_space_by_name(opt.color_space)->white;
+    const spt::Matrix3 m = spt::bradford_adaptation(source, target);
+    std::printf("source_xy %.17g %.17g\ntarget_xy %.17g %.17g\n", source[0], source[1], target[0],
+                target[1]);
+    for (const auto& row : m) std::printf("%.17g %.17g %.17g\n", row[0], row[1], row[2]);
 }
 
 /// SCENE is a built-in name or a path to a scene file (anything ending in .json or naming an
@@ -129,8 +157,10 @@ int run(const spt::Options& opt) {
     for (const std::string& w : warnings) std::fprintf(stderr, "pathtracer: warning: %s\n", w.c_str());
     if (!opt.dispersion) scene->disable_dispersion();
     spt::RenderSettings rs;
-    rs.width = opt.width.value_or(scene->width);
-    rs.height = opt.height.value_or(scene->height);
+    const spt::ImageSize size =
+        spt::resolve_image_size(scene->width, scene->height, opt.width, opt.height, opt.scale);
+    rs.width = size.width;
+    rs.height = size.height;
     rs.spp = opt.spp.value_or(scene->spp);
     rs.seed = opt.seed;
     rs.threads = opt.threads > 0 ? opt.threads
@@ -198,7 +228,7 @@ int run(const spt::Options& opt) {
     const spt::RenderStats stats = spt::render(*scene, rs, film, hooks);
     bar.finish();
 
-    write_outputs(opt, outputs, film);
+    const std::optional<double> auto_stops = write_outputs(opt, outputs, film);
     if (!opt.checkpoint.empty()) {
         info.samples_completed = stats.cancelled ? last_whole_samples : stats.samples_completed;
         spt::save_checkpoint(opt.checkpoint, info, stats.cancelled ? last_whole_pass : film.save_state());
@@ -212,6 +242,7 @@ int run(const spt::Options& opt) {
         if (stats.time_limited)
             std::fprintf(stderr, "  stopped by --time-limit %g s after %d of %d spp\n", opt.time_limit,
                          stats.samples_completed, rs.spp);
+        if (auto_stops) std::fprintf(stderr, "  auto exposure: %+.1f stops\n", *auto_stops);
         for (const std::string& path : outputs) std::fprintf(stderr, "  wrote %s\n", path.c_str());
     }
     if (stats.cancelled) {
@@ -243,6 +274,10 @@ int main(int argc, char** argv) {
             const spt::SpectrumSource s = spt::rgb_to_spectrum(*opt.rgb_to_spectrum);
             if (s.kind == spt::SpectrumSource::Kind::Constant) std::printf("constant %.17g\n", s.p[0]);
             else std::printf("rgb_sigmoid %.17g %.17g %.17g\n", s.p[0], s.p[1], s.p[2]);
+            return 0;
+        }
+        if (opt.print_adaptation) {
+            print_adaptation(opt);
             return 0;
         }
         if (opt.list_scenes) {

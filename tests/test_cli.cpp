@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <utility>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -18,6 +19,8 @@
 #include <sstream>
 #include <string>
 #include <vector>
+
+#include "cli/options.h"
 
 #ifndef SPT_PATHTRACER
 #error "SPT_PATHTRACER must name the pathtracer program"
@@ -189,6 +192,14 @@ TEST_F(Cli, BadArgumentsExitTwoWithOneLineNamingTheFlag) {
         {{"--seed", "-1"}, {"--seed"}},
         {{"--max-depth", "-2"}, {"--max-depth"}},
         {{"--exposure", "nan"}, {"--exposure"}},
+        {{"--tonemap", "filmic"}, {"--tonemap", "filmic", "neutral"}},
+        {{"--auto-exposure=yes"}, {"--auto-exposure"}},
+        {{"--white-balance", "D66"}, {"--white-balance", "D66", "25000K"}},
+        {{"--white-balance", "500K"}, {"--white-balance", "500K"}},
+        {{"--print-adaptation", "hot"}, {"--print-adaptation", "hot"}},
+        {{"--scale", "0"}, {"--scale", "'0'"}},
+        {{"--scale", "101"}, {"--scale", "101"}},
+        {{"--scale", "2"}, {"--scale", "--width"}},  // tiny() gives --width and --height
         {{"--color-space", "cmyk"}, {"--color-space", "cmyk"}},
         {{"--bogus"}, {"--bogus"}},
         {{"-x"}, {"-x"}},
@@ -319,19 +330,23 @@ TEST_F(Cli, RepeatedIdenticalOutputIsFine) {
     EXPECT_EQ(read_file(m_dir / "a.pfm").substr(0, 3), "PF\n");
 }
 
-void expect_valid_images(const fs::path& dir, const std::string& stem, int w, int h) {
-    const std::string png = read_file(dir / (stem + ".png"));
-    ASSERT_GE(png.size(), 24u);
-    EXPECT_EQ(png.substr(0, 8), std::string("\x89PNG\r\n\x1a\n", 8));
-    EXPECT_EQ(png.substr(12, 4), "IHDR");
+/// Width and height from a PNG file's IHDR chunk ({0, 0} when it is not a PNG).
+std::pair<unsigned, unsigned> png_size(const fs::path& path) {
+    const std::string png = read_file(path);
+    if (png.size() < 24 || png.substr(0, 8) != std::string("\x89PNG\r\n\x1a\n", 8) ||
+        png.substr(12, 4) != "IHDR")
+        return {0, 0};
     const auto be32 = [&](std::size_t at) {
         return (unsigned(static_cast<unsigned char>(png[at])) << 24) |
                (unsigned(static_cast<unsigned char>(png[at + 1])) << 16) |
                (unsigned(static_cast<unsigned char>(png[at + 2])) << 8) |
                unsigned(static_cast<unsigned char>(png[at + 3]));
     };
-    EXPECT_EQ(be32(16), unsigned(w));
-    EXPECT_EQ(be32(20), unsigned(h));
+    return {be32(16), be32(20)};
+}
+
+void expect_valid_images(const fs::path& dir, const std::string& stem, int w, int h) {
+    EXPECT_EQ(png_size(dir / (stem + ".png")), std::make_pair(unsigned(w), unsigned(h)));
 
     const std::string pfm = read_file(dir / (stem + ".pfm"));
     const std::string pfm_header = "PF\n" + std::to_string(w) + " " + std::to_string(h) + "\n";
@@ -436,6 +451,72 @@ TEST_F(Cli, PngIsSrgbWhateverTheColorSpace) {
     ASSERT_EQ(run(b).exit_code, 0);
     EXPECT_EQ(read_file(m_dir / "srgb.png"), read_file(m_dir / "xyz.png"));
     EXPECT_NE(read_file(m_dir / "srgb.pfm"), read_file(m_dir / "xyz.pfm"));
+}
+
+// Only --width or --height: the other side keeps the scene's aspect ratio (colorchecker is
+// 240 x 160); --scale multiplies the scene's size.
+TEST_F(Cli, ImageSizeKeepsTheScenesAspectRatio) {
+    const std::vector<std::pair<std::vector<std::string>, std::pair<unsigned, unsigned>>> cases = {
+        {{"--width", "48"}, {48, 32}},
+        {{"--height", "8"}, {12, 8}},
+        {{"--scale", "0.1"}, {24, 16}},
+        {{"--width", "10", "--height", "10"}, {10, 10}},
+    };
+    for (const auto& [flags, size] : cases) {
+        std::vector<std::string> args = {"colorchecker", "--spp", "1", "--quiet", "-o", "a.png"};
+        args.insert(args.end(), flags.begin(), flags.end());
+        const RunResult r = run(args);
+        ASSERT_EQ(r.exit_code, 0) << join(flags) << "\n" << r.err;
+        EXPECT_EQ(png_size(m_dir / "a.png"), size) << join(flags);
+    }
+}
+
+// --tonemap and --auto-exposure act on the PNG only; --white-balance on every output. The
+// summary names the automatic exposure.
+TEST_F(Cli, DisplayFlagsReachTheRightOutputs) {
+    const auto render = [&](const std::string& stem, std::vector<std::string> more) {
+        std::vector<std::string> args = {"--width", "16", "--height", "16", "--spp", "2",
+                                         "-o", stem + ".png", "-o", stem + ".pfm"};
+        args.insert(args.end(), more.begin(), more.end());
+        return run(args);
+    };
+    ASSERT_EQ(render("plain", {"--quiet"}).exit_code, 0);
+    ASSERT_EQ(render("clip", {"--quiet", "--tonemap", "clip"}).exit_code, 0);
+    ASSERT_EQ(render("neutral", {"--quiet", "--tonemap", "neutral"}).exit_code, 0);
+    const RunResult automatic = render("auto", {"--auto-exposure"});
+    ASSERT_EQ(automatic.exit_code, 0) << automatic.err;
+    ASSERT_EQ(render("balanced", {"--quiet", "--white-balance", "3200K"}).exit_code, 0);
+    const auto bytes = [&](const std::string& name) { return read_file(m_dir / name); };
+
+    EXPECT_EQ(bytes("plain.png"), bytes("neutral.png"));  // neutral is the default
+    EXPECT_NE(bytes("plain.png"), bytes("clip.png"));     // the cornell ceiling is above 1
+    EXPECT_NE(bytes("plain.png"), bytes("auto.png"));
+    for (const char* stem : {"clip", "neutral", "auto"})
+        EXPECT_EQ(bytes("plain.pfm"), bytes(std::string(stem) + ".pfm")) << stem;
+    EXPECT_NE(bytes("plain.pfm"), bytes("balanced.pfm"));
+    EXPECT_NE(bytes("plain.png"), bytes("balanced.png"));
+    // cornell's median luminance is about 0.8: the exposure goes down about two stops.
+    const std::size_t at = automatic.err.find("auto exposure: -");
+    ASSERT_NE(at, std::string::npos) << automatic.err;
+    EXPECT_NE(automatic.err.find(" stops\n", at), std::string::npos) << automatic.err;
+}
+
+TEST_F(Cli, PrintAdaptationPrintsBothWhitesAndAMatrix) {
+    const RunResult r = run({"--print-adaptation", "A", "--color-space", "acescg"});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    std::istringstream in(r.out);
+    std::string source, target;
+    double xy[4] = {}, m[9] = {};
+    in >> source >> xy[0] >> xy[1] >> target >> xy[2] >> xy[3];
+    for (double& v : m) in >> v;
+    ASSERT_TRUE(in) << r.out;
+    EXPECT_EQ(source, "source_xy");
+    EXPECT_EQ(target, "target_xy");
+    EXPECT_DOUBLE_EQ(xy[0], 0.44758);  // illuminant A
+    EXPECT_DOUBLE_EQ(xy[3], 0.33767);  // the ACES white
+    EXPECT_GT(m[8], 2.0);              // blue boosted a lot from tungsten light
+    EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 5) << r.out;
+    EXPECT_TRUE(files().empty());
 }
 
 }  // namespace
@@ -544,6 +625,41 @@ TEST_F(Cli, SummaryGivesLoadTimeBvhTimeAndPeakMemory) {
     std::smatch m;
     ASSERT_TRUE(std::regex_search(r.err, m, line)) << r.err;
     EXPECT_GT(std::stoi(m[1].str()), 0);
+}
+
+}  // namespace
+
+namespace {
+
+/// The flags ("--name") a text mentions.
+std::set<std::string> flags_in(const std::string& text) {
+    std::set<std::string> flags;
+    const std::regex flag(R"(--[a-z][a-z0-9-]*)");
+    for (auto it = std::sregex_iterator(text.begin(), text.end(), flag); it != std::sregex_iterator(); ++it)
+        flags.insert(it->str());
+    return flags;
+}
+
+// "Did you mean" knows every flag, --help documents every flag, and the README's synopsis (the
+// code block under "## Using it") lists every flag: a new flag missing from one fails here.
+TEST(CliFlags, HelpReadmeAndSuggestionsKnowTheSameFlags) {
+    const std::vector<std::string>& known = spt::known_flags();
+    const std::set<std::string> known_set(known.begin(), known.end());
+    EXPECT_EQ(flags_in(spt::usage_text()), known_set);
+    const std::string readme = read_file(fs::path(SPT_SOURCE_DIR) / "README.md");
+    const auto section = readme.find("## Using it");
+    ASSERT_NE(section, std::string::npos);
+    const auto open = readme.find("```", section), close = readme.find("```", open + 3);
+    ASSERT_NE(close, std::string::npos);
+    EXPECT_EQ(flags_in(readme.substr(open, close - open)), known_set);
+    for (const std::string& f : known) {
+        // Parsed (perhaps failing on its value), never "unknown option".
+        try {
+            spt::parse_options({f});
+        } catch (const spt::UsageError& e) {
+            EXPECT_EQ(std::string(e.what()).find("unknown option"), std::string::npos) << f << ": " << e.what();
+        }
+    }
 }
 
 }  // namespace

@@ -22,6 +22,7 @@
 #include "io/atomic_file.h"
 #include "io/image.h"
 #include "io/image_writer.h"
+#include "io/tone_map.h"
 
 namespace spt {
 namespace {
@@ -569,6 +570,15 @@ TEST(PngWriter, SignatureChunksAndCrcs) {
     EXPECT_NONFATAL_FAILURE(parse_png_chunks(corrupt), "CRC of IHDR");
 }
 
+/// The PNG writer with the clip curve: exposure, min(v, 1), the sRGB OETF. These codes are
+/// the writer's output from before tone curves existed, so --tonemap clip is unchanged.
+ImageWriteOptions clip_options() {
+    ImageWriteOptions o;
+    o.tone_map = ToneMap::clip;
+    return o;
+}
+const ImageWriteOptions kClip = clip_options();
+
 TEST(PngWriter, SrgbTransferClampAndExposure) {
     const float nan = std::numeric_limits<float>::quiet_NaN();
     // Expected 8-bit codes computed by hand from IEC 61966-2-1.
@@ -576,12 +586,12 @@ TEST(PngWriter, SrgbTransferClampAndExposure) {
                                        -0.5f, nan,  7.0f,  0.01f, 0.25f,  0.8f};
     const std::vector<int> expected = {0, 255, 188, 118, 7, 10, 0, 0, 255, 25, 137, 231};
     const Image image{4, 1, linear};
-    const DecodedPng png = decode_png(encode_image(image, ImageFormat::Png, {}));
+    const DecodedPng png = decode_png(encode_image(image, ImageFormat::Png, kClip));
     ASSERT_EQ(png.width, 4);
     ASSERT_EQ(png.height, 1);
     for (std::size_t i = 0; i < expected.size(); ++i) EXPECT_EQ(png.rgb[i], expected[i]) << i;
 
-    ImageWriteOptions brighter;
+    ImageWriteOptions brighter = kClip;
     brighter.exposure_stops = 1.0;  // 0.25 -> 0.5, 0.5 -> 1.0
     const DecodedPng bright = decode_png(encode_image(image, ImageFormat::Png, brighter));
     EXPECT_EQ(bright.rgb[2], 255);
@@ -594,7 +604,7 @@ TEST(PngWriter, SmoothGradientCompressesWell) {
         const float t = c == 0 ? x / 255.0f : c == 1 ? y / 255.0f : (x + y) / 510.0f;
         return t * t;
     });
-    const DecodedPng png = decode_png(encode_image(image, ImageFormat::Png, {}));
+    const DecodedPng png = decode_png(encode_image(image, ImageFormat::Png, kClip));
     ASSERT_EQ(png.width, n);
     ASSERT_EQ(png.height, n);
     const std::size_t raw = static_cast<std::size_t>(n) * n * 3;
@@ -631,7 +641,7 @@ TEST(PngWriter, NoisyImageUsesStoredAndDynamicBlocks) {
         expected.push_back(code);
         return static_cast<float>(srgb_to_linear(code / 255.0));
     });
-    const DecodedPng png = decode_png(encode_image(image, ImageFormat::Png, {}));
+    const DecodedPng png = decode_png(encode_image(image, ImageFormat::Png, kClip));
     EXPECT_GT(png.stream.stored_blocks, 0);
     EXPECT_GT(png.stream.dynamic_blocks, 0);
     ASSERT_EQ(png.rgb.size(), expected.size());
@@ -641,9 +651,27 @@ TEST(PngWriter, NoisyImageUsesStoredAndDynamicBlocks) {
 TEST(PngWriter, SinglePixel) {
     // Too small for a dynamic code table to pay off: a fixed-Huffman block.
     const DecodedPng png =
-        decode_png(encode_image(Image{1, 1, {1, 0, 0.5f}}, ImageFormat::Png, {}));
+        decode_png(encode_image(Image{1, 1, {1, 0, 0.5f}}, ImageFormat::Png, kClip));
     EXPECT_EQ(png.rgb, (std::vector<std::uint8_t>{255, 0, 188}));
     EXPECT_EQ(png.stream.fixed_blocks, 1);
+}
+
+TEST(PngWriter, DefaultCurveIsAppliedToWholePixelsAfterExposure) {
+    // A saturated orange above the knee: the PBR Neutral shoulder acts on the pixel (its
+    // peak), not per channel, and after the exposure scale; clip would give 255, 188, 59.
+    const Image image{1, 1, {1.0f, 0.25f, 0.0225f}};
+    ImageWriteOptions options;
+    options.exposure_stops = 1.0;
+    EXPECT_EQ(options.tone_map, kDefaultToneMap);
+    const DecodedPng png = decode_png(encode_image(image, ImageFormat::Png, options));
+    const std::array<double, 3> display = tone_map(kDefaultToneMap, {2.0, 0.5, 0.045});
+    for (int c = 0; c < 3; ++c) {
+        const double v = display[c];
+        const double s = v < 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1 / 2.4) - 0.055;
+        EXPECT_EQ(png.rgb[c], std::lround(s * 255)) << c;
+    }
+    EXPECT_LT(png.rgb[0], 255);
+    EXPECT_LT(png.rgb[1], 188);  // scaled down with the peak (hue kept), not clipped alone
 }
 
 // ---- invalid images and atomic writes -------------------------------------------------------

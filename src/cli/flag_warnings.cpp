@@ -23,6 +23,8 @@ std::vector<std::string> ineffective_flag_warnings(const Options& options, const
         {"--merge-radius", integrator.kind != IntegratorKind::vcm, "with the " + kind + " integrator (vcm only)"},
         {"--light-sampling", integrator.kind != IntegratorKind::path, "with the " + kind + " integrator (path only)"},
         {"--exposure", !writes(ImageFormat::Png), "without a .png output (EXR, PFM and PPM stay linear)"},
+        {"--auto-exposure", !writes(ImageFormat::Png), "without a .png output (EXR, PFM and PPM stay linear)"},
+        {"--tonemap", !writes(ImageFormat::Png), "without a .png output (EXR, PFM and PPM stay linear)"},
         {"--color-resolution", !writes(ImageFormat::Ppm), "without a .ppm output"},
         {"--color-space", !linear_output, "with only .png outputs (a PNG is always sRGB)"},
         {"--checkpoint-interval", options.checkpoint.empty(), "without --checkpoint"},

@@ -32,18 +32,17 @@ double parse_real(const std::string& flag, const std::string& text, double lo, d
     return value;
 }
 
-/// Every flag parse_options knows (for "did you mean").
+}  // namespace
+
 const std::vector<std::string>& known_flags() {
     static const std::vector<std::string> flags = {
         "--help", "--version", "--list-scenes", "--rgb-to-spectrum", "--quiet", "--spp", "--width",
-        "--height", "--output", "--exposure", "--color-resolution", "--color-space", "--spectral-bins",
-        "--threads", "--seed", "--checkpoint", "--resume", "--checkpoint-interval", "--time-limit",
-        "--wavelengths-per-path", "--integrator", "--light-sampling", "--merge-radius",
-        "--no-dispersion", "--pass-spp", "--max-depth"};
+        "--height", "--scale", "--output", "--exposure", "--auto-exposure", "--tonemap", "--white-balance",
+        "--print-adaptation", "--color-resolution", "--color-space", "--spectral-bins", "--threads", "--seed",
+        "--checkpoint", "--resume", "--checkpoint-interval", "--time-limit", "--wavelengths-per-path",
+        "--integrator", "--light-sampling", "--merge-radius", "--no-dispersion", "--pass-spp", "--max-depth"};
     return flags;
 }
-
-}  // namespace
 
 std::string usage_text() {
     return R"(Usage: pathtracer [SCENE] [options]
@@ -54,11 +53,25 @@ is reported as FILE:LINE:COLUMN: message, with exit status 1.
 
 Options:
   --spp N                paths per pixel (1 to 1000000; default: the scene's)
-  --width W, --height H  image size in pixels (1 to 65536; default: the scene's)
+  --width W, --height H  image size in pixels (1 to 65536; default: the scene's); with
+                         only one of them the other keeps the scene's aspect ratio
+  --scale F              the scene's image size times F (0.001 to 100, each side rounded,
+                         at least 1); not with --width or --height
   -o, --output FILE      output image; repeat to write several files from one render.
                          Format by extension: .png (sRGB 8-bit, tone-mapped), .exr and .pfm
                          (linear float), .ppm (P3 with #MAX=). Default: SCENE.png
   --exposure STOPS       PNG exposure adjustment in stops (-20 to 20; default 0)
+  --auto-exposure        PNG: also add the stops that bring the median luminance of the
+                         non-black pixels to 0.18 (middle grey); the summary prints them
+  --tonemap CURVE        PNG tone curve after exposure: neutral (default: Khronos PBR
+                         Neutral with F90 = 0, the identity up to 0.8, then a hue-keeping
+                         shoulder; a grey reaches white at 9.57), pbr-neutral (the Khronos
+                         curve as specified: 0.04 darker, white at 13.5) or clip (each
+                         channel clipped at 1). EXR, PFM and PPM are never tone-mapped
+  --white-balance WHITE  adapt colours seen under WHITE to the output's white (Bradford),
+                         for every output: A, D50, D55, D65, D75, E, F2, F11 (CIE xy) or a
+                         temperature 1000K to 25000K (Planckian below 4000 K, CIE daylight
+                         above); default: none
   --color-resolution R   PPM integer levels (2 to 2^62; default 2^25)
   --color-space NAME     srgb (default), rec2020, acescg or xyz: linear RGB of the .exr, .pfm
                          and .ppm outputs (a .png is always sRGB)
@@ -102,6 +115,8 @@ Options:
 Diagnostics:
   --rgb-to-spectrum R,G,B  print the spectrum fitted to a linear sRGB reflectance (each in
                          [0, 1]) as 'rgb_sigmoid c0 c1 c2' or 'constant v', and exit
+  --print-adaptation WHITE  print the --white-balance WHITE matrix (XYZ to XYZ, to the white
+                         of --color-space) with both whites' xy, and exit
 )";
 }
 
@@ -141,6 +156,23 @@ Options parse_options(const std::vector<std::string>& args) {
                 start = comma + 1;
             }
             o.rgb_to_spectrum = rgb;
+        } else if (flag == "--white-balance" || flag == "--print-adaptation") {
+            const std::string v = next_value();
+            const std::optional<Chromaticity> white = parse_white(v);
+            if (!white)
+                throw UsageError(flag + ": expected A, D50, D55, D65, D75, E, F2, F11 or a "
+                                        "temperature from 1000K to 25000K, got '" + v + "'");
+            (flag == "--white-balance" ? o.white_balance : o.print_adaptation) = white;
+        } else if (flag == "--tonemap") {
+            const std::string v = next_value();
+            const std::optional<ToneMap> map = tone_map_from_name(v);
+            if (!map)
+                throw UsageError(flag + ": expected neutral, pbr-neutral or clip, got '" + v + "'");
+            o.tone_map = *map;
+        } else if (flag == "--auto-exposure") {
+            o.auto_exposure = true;
+        } else if (flag == "--scale") {
+            o.scale = parse_real(flag, next_value(), 0.001, 100, "a factor from 0.001 to 100");
         } else if (flag == "--quiet") {
             o.quiet = true;
         } else if (flag == "--spp") {
@@ -222,9 +254,12 @@ Options parse_options(const std::vector<std::string>& args) {
         if (flag.starts_with("--")) o.given.insert(flag);
         else if (flag == "-o") o.given.insert("--output");
         if (inline_value && (flag == "-h" || flag == "--help" || flag == "--version" ||
-                             flag == "--list-scenes" || flag == "--quiet" || flag == "--no-dispersion"))
+                             flag == "--list-scenes" || flag == "--quiet" ||
+                             flag == "--no-dispersion" || flag == "--auto-exposure"))
             throw UsageError(flag + ": takes no value");
     }
+    if (o.scale && (o.width || o.height))
+        throw UsageError("--scale: cannot be combined with --width or --height");
     return o;
 }
 

@@ -8,7 +8,9 @@
 #include <string>
 #include <vector>
 
+#include "io/tone_map.h"
 #include "render/integrator.h"
+#include "spectral/chromatic_adaptation.h"
 #include "spectral/spectrum.h"
 
 namespace spt {
@@ -21,6 +23,7 @@ struct UsageError : std::runtime_error {
 struct Options {
     std::string scene = "cornell";
     std::optional<int> spp, width, height;  ///< unset: the scene's defaults
+    std::optional<double> scale;            ///< the scene's size times this (not with width/height)
     std::vector<std::string> outputs;       ///< unset: "<scene>.png"
     std::uint64_t color_resolution = 1ull << 25;
     SpectralResolution spectral;
@@ -36,6 +39,9 @@ struct Options {
     bool dispersion = true;        ///< false: dispersive glass gets its mean index
     int pass_spp = 0;  ///< samples per pass (0: automatic); does not change the image
     double exposure = 0.0;
+    bool auto_exposure = false;  ///< PNG: add the stops that take the median luminance to 0.18
+    ToneMap tone_map = kDefaultToneMap;  ///< PNG: the curve after exposure
+    std::optional<Chromaticity> white_balance;  ///< adapt this white to the output space's white
     std::string checkpoint;            ///< save the film state here (empty: never)
     double time_limit = 0;  ///< seconds (0: none): no pass is started that would end later
     double checkpoint_interval = 300;  ///< seconds between checkpoints (after a whole pass)
@@ -49,10 +55,16 @@ struct Options {
     /// --rgb-to-spectrum R,G,B: print the fitted spectrum of an RGB reflectance and exit
     /// (a diagnostic hook for validation/test_rgb_fit.py).
     std::optional<std::array<double, 3>> rgb_to_spectrum;
+    /// --print-adaptation WHITE: print the white-balance matrix from WHITE to the white of
+    /// --color-space and exit (a diagnostic hook for validation/test_white_balance.py).
+    std::optional<Chromaticity> print_adaptation;
 };
 
 /// Parses argv (without the program name). Throws UsageError.
 Options parse_options(const std::vector<std::string>& args);
+
+/// Every long flag the parser knows (for "did you mean"; the --help text names each).
+const std::vector<std::string>& known_flags();
 
 /// The --help text.
 std::string usage_text();

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "io/image.h"
+#include "io/tone_map.h"
 
 namespace spt {
 
@@ -15,6 +16,7 @@ struct Chromaticities {
 
 struct ImageWriteOptions {
     double exposure_stops = 0.0;                  ///< PNG only: scale by 2^exposure first
+    ToneMap tone_map = kDefaultToneMap;           ///< PNG only: then this curve
     std::uint64_t color_resolution = 1ull << 25;  ///< PPM: integer levels (above 2^24 = float)
     Chromaticities chromaticities = {
         {0.64f, 0.33f}, {0.30f, 0.60f}, {0.15f, 0.06f}, {0.3127f, 0.3290f}};  // sRGB / D65

@@ -1,5 +1,6 @@
-// 8-bit sRGB PNG with our own zlib stream: hashed LZ77, then per block the smallest of stored,
-// fixed-Huffman and dynamic-Huffman deflate; per-row adaptive filtering; CRC32 and Adler-32.
+// 8-bit sRGB PNG (exposure, tone curve, sRGB OETF) with our own zlib stream: hashed LZ77, then
+// per block the smallest of stored, fixed-Huffman and dynamic-Huffman deflate; per-row adaptive
+// filtering; CRC32 and Adler-32.
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -10,6 +11,7 @@
 #include <vector>
 
 #include "io/image_encoders.h"
+#include "io/tone_map.h"
 
 namespace spt {
 namespace {
@@ -389,9 +391,8 @@ void append_chunk(std::string& out, const char* type, const std::string& data) {
     append_be32(out, crc32(out, start, out.size()));  // CRC covers type and data
 }
 
-std::uint8_t to_srgb8(float linear, double scale) {
-    double v = linear * scale;
-    v = v > 0.0 ? std::min(v, 1.0) : 0.0;  // also maps NaN to 0
+/// 8-bit sRGB code of a display-linear value in [0, 1] (IEC 61966-2-1 OETF).
+std::uint8_t to_srgb8(double v) {
     const double s = v < 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1.0 / 2.4) - 0.055;
     return static_cast<std::uint8_t>(std::lround(s * 255.0));
 }
@@ -437,7 +438,12 @@ std::string encode_png(const Image& image, const ImageWriteOptions& options) {
     const int w = image.width, h = image.height, row_bytes = w * 3;
     const double scale = std::exp2(options.exposure_stops);
     std::vector<std::uint8_t> pixels(image.rgb.size());
-    for (std::size_t i = 0; i < pixels.size(); ++i) pixels[i] = to_srgb8(image.rgb[i], scale);
+    for (std::size_t i = 0; i < pixels.size(); i += 3) {
+        const float* in = &image.rgb[i];
+        const std::array<double, 3> display =
+            tone_map(options.tone_map, {in[0] * scale, in[1] * scale, in[2] * scale});
+        for (int c = 0; c < 3; ++c) pixels[i + c] = to_srgb8(display[c]);
+    }
 
     std::vector<std::uint8_t> filtered;
     filtered.reserve(static_cast<std::size_t>(row_bytes + 1) * h);

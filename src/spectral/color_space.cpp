@@ -3,8 +3,6 @@
 
 namespace spt {
 
-namespace {
-
 Matrix3 invert(const Matrix3& m) {
     const double det = m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) -
                        m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
@@ -21,6 +19,16 @@ Matrix3 invert(const Matrix3& m) {
     r[2][2] = (m[0][0] * m[1][1] - m[0][1] * m[1][0]) / det;
     return r;
 }
+
+Matrix3 operator*(const Matrix3& a, const Matrix3& b) {
+    Matrix3 r{};
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+            for (int k = 0; k < 3; ++k) r[i][j] += a[i][k] * b[k][j];
+    return r;
+}
+
+namespace {
 
 std::array<double, 3> xy_to_xyz(std::array<double, 2> xy) {
     return {xy[0] / xy[1], 1.0, (1.0 - xy[0] - xy[1]) / xy[1]};

@@ -10,6 +10,9 @@ namespace spt {
 
 using Matrix3 = std::array<std::array<double, 3>, 3>;
 
+Matrix3 invert(const Matrix3& m);
+Matrix3 operator*(const Matrix3& a, const Matrix3& b);
+
 struct ColorSpace {
     std::string name;
     std::array<double, 2> red, green, blue, white;  ///< CIE 1931 xy chromaticities
