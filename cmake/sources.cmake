@@ -2,6 +2,7 @@
 set(SPT_CORE_SOURCES
     src/cli/options.cpp
     src/cli/progress_bar.cpp
+    src/cli/render_metadata.cpp
     src/geometry/bvh.cpp
     src/io/atomic_file.cpp
     src/model/bsdfs/lobe_mix.cpp
@@ -29,6 +30,8 @@ set(SPT_CORE_SOURCES
     src/scene/spectrum_parser.cpp
     src/spectral/cie.cpp
     src/spectral/glass_catalog.cpp
+    src/spectral/observer.cpp
+    src/spectral/sensor.cpp
     src/spectral/color_space.cpp
     src/spectral/rgb_to_spectrum.cpp
     src/spectral/spectral_table.cpp

@@ -11,6 +11,7 @@
 
 #include "cli/options.h"
 #include "cli/progress_bar.h"
+#include "cli/render_metadata.h"
 #include "io/atomic_file.h"
 #include "io/image_writer.h"
 #include "render/checkpoint.h"
@@ -18,6 +19,7 @@
 #include "io/json.h"
 #include "scene/scene_loader.h"
 #include "spectral/rgb_to_spectrum.h"
+#include "spectral/sensor.h"
 
 namespace {
 
@@ -48,9 +50,14 @@ void print_summary(const spt::Scene& scene, const spt::RenderSettings& rs, const
                  static_cast<unsigned long long>(film.rejected_negative()));
 }
 
-void write_outputs(const spt::Options& opt, const std::vector<std::string>& outputs, const spt::Film& film) {
+void write_outputs(const spt::Options& opt, const std::vector<std::string>& outputs, const spt::Film& film,
+                   std::vector<spt::ExrAttribute> metadata) {
     const spt::ColorSpace space = *spt::color_space_by_name(opt.color_space);
-    const spt::Image image = film.develop(space);
+    // A sensor's raw camera RGB is written as it is, in every format (no colour space).
+    const bool raw = !opt.sensor.empty();
+    const spt::Image image = raw ? film.develop_raw() : film.develop(space);
+    spt::SpectralImage spectral;
+    if (film.has_bands()) spectral = {film.bands(), film.develop_bands()};
     // A PNG is an sRGB file by definition: it is always developed to sRGB, whatever the
     // --color-space of the linear outputs.
     std::optional<spt::Image> srgb_image;
@@ -61,11 +68,14 @@ void write_outputs(const spt::Options& opt, const std::vector<std::string>& outp
                          {float(space.green[0]), float(space.green[1])},
                          {float(space.blue[0]), float(space.blue[1])},
                          {float(space.white[0]), float(space.white[1])}};
+    wo.exr_chromaticities = !raw;
+    wo.exr_attributes = std::move(metadata);
+    if (film.has_bands()) wo.spectral = &spectral;
     std::vector<std::pair<std::string, std::string>> files;
     for (const std::string& path : outputs) {
         const spt::ImageFormat format = *spt::image_format_from_path(path);  // checked by the parser
         const spt::Image* source = &image;
-        if (format == spt::ImageFormat::Png && space.name != "srgb") {
+        if (format == spt::ImageFormat::Png && space.name != "srgb" && !raw) {
             if (!srgb_image) srgb_image = film.develop(spt::srgb_color_space());
             source = &*srgb_image;
         }
@@ -120,16 +130,31 @@ int run(const spt::Options& opt) {
             throw std::runtime_error("cannot write '" + path + "': it is a directory");
     }
 
+    std::optional<spt::Observer> sensor;
+    if (!opt.sensor.empty()) sensor.emplace(spt::load_sensor(opt.sensor));
+
     // ---- Checkpoints: what must match to resume, and the state of the last whole pass ----
     const char* light_sampling[] = {"", " light-sampling=bsdf", " light-sampling=light"};
     const std::string variant = "wavelengths-per-path=" + std::to_string(opt.wavelengths_per_path) +
                                 light_sampling[static_cast<int>(opt.light_sampling)] +
                                 " dispersion=" + (opt.dispersion ? "on" : "off") +
                                 (opt.integrator == spt::IntegratorKind::path ? std::string()
-                                    : std::string(" integrator=") + spt::integrator_name(opt.integrator));
+                                    : std::string(" integrator=") + spt::integrator_name(opt.integrator)) +
+                                (sensor ? " sensor=" + opt.sensor + "#" + std::to_string(sensor->fingerprint()) : "");
     spt::CheckpointInfo info{opt.scene, variant, rs.width, rs.height, rs.spp, opt.spectral.bins,
                              opt.max_depth, rs.seed, 0};
-    spt::Film film(rs.width, rs.height);
+    spt::Film film(rs.width, rs.height, sensor ? *sensor : spt::Cie1931::get());
+    if (const spt::SpectralBands& bands = opt.spectral_bands; bands.count > 0) {
+        film.enable_bands(bands);
+        if (bands.min_nm < spt::kLambdaMin || bands.max_nm > spt::kLambdaMax)
+            rs.wide_wavelengths = spt::WideWavelengthSampling::covering(static_cast<float>(bands.min_nm),
+                                                                        static_cast<float>(bands.max_nm));
+        if ((bands.min_nm < spt::Spectrum::kBinMin || bands.max_nm > spt::Spectrum::kBinMax) &&
+            opt.spectral.bins != spt::SpectralResolution::kExact)
+            std::fprintf(stderr, "pathtracer: warning: --spectral-range reaches beyond 380-780 nm, where "
+                                 "binned spectra hold their end values; --spectral-bins exact evaluates "
+                                 "the scene's analytic spectra there\n");
+    }
     if (!opt.resume.empty()) {
         const spt::CheckpointInfo saved = spt::read_checkpoint_info(opt.resume);
         if (!saved.same_render(info))
@@ -166,7 +191,7 @@ int run(const spt::Options& opt) {
     const spt::RenderStats stats = spt::render(*scene, rs, film, hooks);
     bar.finish();
 
-    write_outputs(opt, outputs, film);
+    write_outputs(opt, outputs, film, spt::render_metadata(opt, rs, stats, film.observer()));
     if (!opt.checkpoint.empty()) {
         info.samples_completed = stats.cancelled ? last_whole_samples : stats.samples_completed;
         spt::save_checkpoint(opt.checkpoint, info, stats.cancelled ? last_whole_pass : film.save_state());

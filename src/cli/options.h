@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "render/integrator.h"
+#include "spectral/spectral_bands.h"
 #include "spectral/spectrum.h"
 
 namespace spt {
@@ -24,6 +25,8 @@ struct Options {
     std::uint64_t color_resolution = 1ull << 25;
     SpectralResolution spectral;
     std::string color_space = "srgb";
+    SpectralBands spectral_bands;  ///< count 0: no spectral channels in the .exr outputs
+    std::string sensor;            ///< camera sensitivities (CSV) instead of CIE 1931; empty: none
     int threads = 0;
     std::uint64_t seed = 0;
     int max_depth = -1;
