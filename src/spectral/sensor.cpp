@@ -1,6 +1,7 @@
 // Sensor tables: checked, then resampled onto the observer's 1-nm grid.
 #include "spectral/sensor.h"
 
+#include <cstdio>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
@@ -20,6 +21,12 @@ int field_column(std::string_view text, int line, int field) {
     return static_cast<int>(pos - start) + 1;
 }
 
+std::string format_nm(double lambda) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%g", lambda);
+    return text;
+}
+
 }  // namespace
 
 Observer parse_sensor(std::string_view text, const std::string& origin) {
@@ -36,7 +43,7 @@ Observer parse_sensor(std::string_view text, const std::string& origin) {
     if (l.size() < 2) throw std::runtime_error(origin + ": expected at least two rows");
     for (std::size_t row = 0; row < l.size(); ++row) {
         if (l[row] < kLambdaMin || l[row] > kLambdaMax)
-            fail(row, 0, "wavelength " + std::to_string(l[row]) +
+            fail(row, 0, "wavelength " + format_nm(l[row]) +
                              " nm is outside 360-830 nm, the range the film integrates over");
         for (int c = 0; c < 3; ++c)
             if (table.columns[c][row] < 0.0)
