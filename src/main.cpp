@@ -146,14 +146,16 @@ int run(const spt::Options& opt) {
     spt::Film film(rs.width, rs.height, sensor ? *sensor : spt::Cie1931::get());
     if (const spt::SpectralBands& bands = opt.spectral_bands; bands.count > 0) {
         film.enable_bands(bands);
-        if (bands.min_nm < spt::kLambdaMin || bands.max_nm > spt::kLambdaMax)
+        // Beyond 360-830 nm: wavelengths the XYZ film never sees, so neither the visible
+        // density nor (unless exact) the scene's 380-780 nm bins cover them.
+        if (bands.min_nm < spt::kLambdaMin || bands.max_nm > spt::kLambdaMax) {
             rs.wide_wavelengths = spt::WideWavelengthSampling::covering(static_cast<float>(bands.min_nm),
                                                                         static_cast<float>(bands.max_nm));
-        if ((bands.min_nm < spt::Spectrum::kBinMin || bands.max_nm > spt::Spectrum::kBinMax) &&
-            opt.spectral.bins != spt::SpectralResolution::kExact)
-            std::fprintf(stderr, "pathtracer: warning: --spectral-range reaches beyond 380-780 nm, where "
-                                 "binned spectra hold their end values; --spectral-bins exact evaluates "
-                                 "the scene's analytic spectra there\n");
+            if (opt.spectral.bins != spt::SpectralResolution::kExact)
+                std::fprintf(stderr, "pathtracer: warning: --spectral-range reaches beyond 360-830 nm, "
+                                     "where binned spectra (380-780 nm) hold their end values; "
+                                     "--spectral-bins exact evaluates the scene's analytic spectra there\n");
+        }
     }
     if (!opt.resume.empty()) {
         const spt::CheckpointInfo saved = spt::read_checkpoint_info(opt.resume);

@@ -476,7 +476,7 @@ TEST_F(Cli, SpectralExrHoldsTheBandsAndWarnsWhereBinnedSpectraEnd) {
                                            "4", "--spectral-range", "300:1100", "-o", "a.exr", "-o", "a.png"};
     const RunResult binned = run(base);
     ASSERT_EQ(binned.exit_code, 0) << binned.err;
-    EXPECT_NE(binned.err.find("warning: --spectral-range reaches beyond 380-780 nm"), std::string::npos);
+    EXPECT_NE(binned.err.find("warning: --spectral-range reaches beyond 360-830 nm"), std::string::npos);
     std::vector<std::string> exact = base;
     exact.insert(exact.end(), {"--spectral-bins", "exact"});
     const RunResult r = run(exact);

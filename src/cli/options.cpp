@@ -73,8 +73,8 @@ Options:
                          al. 2021 layout) beside R, G, B; path integrator only, no checkpoints
   --spectral-range MIN:MAX   wavelength range of the bands in nm (100 to 3000; default
                          360:830). Beyond 360-830 nm half the wavelengths are drawn uniformly
-                         over the range; beyond 380-780 binned spectra hold their end
-                         values (use --spectral-bins exact for the analytic spectra there)
+                         over the range, and binned spectra (380-780 nm) hold their end
+                         values there: use --spectral-bins exact for the analytic spectra
   --sensor FILE.csv      integrate against a camera's spectral sensitivities (columns
                          wavelength_nm,r,g,b; 360-830 nm) instead of the CIE 1931 observer:
                          the outputs hold raw camera RGB (no colour space; .png: that RGB
