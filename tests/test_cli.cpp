@@ -446,6 +446,23 @@ TEST_F(Cli, BadSensorFileNamesLineAndColumnAndWritesNothing) {
     EXPECT_EQ(files(), (std::set<std::string>{"bad.csv"}));
 }
 
+// The film's sums are the sensor's RGB: a checkpoint resumes only with the same curves.
+TEST_F(Cli, CheckpointResumesOnlyWithTheSameSensor) {
+    write_file(m_dir / "a.csv", "wavelength_nm,r,g,b\n400,1,1,0\n700,0,1,1\n");
+    write_file(m_dir / "b.csv", "wavelength_nm,r,g,b\n400,1,1,0\n700,0,1,2\n");
+    const std::vector<std::string> base = {"--width", "4", "--height", "4", "--spp", "2", "--quiet", "-o", "a.pfm"};
+    auto with = [&](std::vector<std::string> more) {
+        more.insert(more.begin(), base.begin(), base.end());
+        return more;
+    };
+    ASSERT_EQ(run(with({"--sensor", "a.csv", "--checkpoint", "c.ckpt"})).exit_code, 0);
+    const RunResult other = run(with({"--sensor", "b.csv", "--resume", "c.ckpt"}));
+    EXPECT_NE(other.exit_code, 0);
+    EXPECT_NE(other.err.find("cannot resume"), std::string::npos) << other.err;
+    EXPECT_NE(run(with({"--resume", "c.ckpt"})).exit_code, 0);  // nor with the CIE observer
+    EXPECT_EQ(run(with({"--sensor", "a.csv", "--resume", "c.ckpt"})).exit_code, 0);
+}
+
 TEST_F(Cli, ExrHeaderCarriesTheRenderMetadata) {
     ASSERT_EQ(run({"--width", "4", "--height", "2", "--spp", "3", "--seed", "12345678901234", "--quiet",
                    "-o", "a.exr"}).exit_code, 0);
