@@ -50,8 +50,8 @@ void print_summary(const spt::Scene& scene, const spt::RenderSettings& rs, const
                  static_cast<unsigned long long>(film.rejected_negative()));
 }
 
-void write_outputs(const spt::Options& opt, const std::vector<std::string>& outputs, const spt::Film& film,
-                   std::vector<spt::ExrAttribute> metadata) {
+void write_outputs(const spt::Options& opt, const std::vector<std::string>& outputs,
+                   const spt::Film& film, std::vector<spt::ExrAttribute> metadata) {
     const spt::ColorSpace space = *spt::color_space_by_name(opt.color_space);
     // A sensor's raw camera RGB is written as it is, in every format (no colour space).
     const bool raw = !opt.sensor.empty();
@@ -140,7 +140,9 @@ int run(const spt::Options& opt) {
                                 " dispersion=" + (opt.dispersion ? "on" : "off") +
                                 (opt.integrator == spt::IntegratorKind::path ? std::string()
                                     : std::string(" integrator=") + spt::integrator_name(opt.integrator)) +
-                                (sensor ? " sensor=" + opt.sensor + "#" + std::to_string(sensor->fingerprint()) : "");
+                                (sensor ? " sensor=" + opt.sensor + "#" +
+                                              std::to_string(sensor->fingerprint())
+                                        : "");
     spt::CheckpointInfo info{opt.scene, variant, rs.width, rs.height, rs.spp, opt.spectral.bins,
                              opt.max_depth, rs.seed, 0};
     spt::Film film(rs.width, rs.height, sensor ? *sensor : spt::Cie1931::get());
@@ -149,12 +151,13 @@ int run(const spt::Options& opt) {
         // Beyond 360-830 nm: wavelengths the XYZ film never sees, so neither the visible
         // density nor (unless exact) the scene's 380-780 nm bins cover them.
         if (bands.min_nm < spt::kLambdaMin || bands.max_nm > spt::kLambdaMax) {
-            rs.wide_wavelengths = spt::WideWavelengthSampling::covering(static_cast<float>(bands.min_nm),
-                                                                        static_cast<float>(bands.max_nm));
+            rs.wide_wavelengths = spt::WideWavelengthSampling::covering(
+                static_cast<float>(bands.min_nm), static_cast<float>(bands.max_nm));
             if (opt.spectral.bins != spt::SpectralResolution::kExact)
-                std::fprintf(stderr, "pathtracer: warning: --spectral-range reaches beyond 360-830 nm, "
-                                     "where binned spectra (380-780 nm) hold their end values; "
-                                     "--spectral-bins exact evaluates the scene's analytic spectra there\n");
+                std::fprintf(stderr,
+                             "pathtracer: warning: --spectral-range reaches beyond 360-830 nm, "
+                             "where binned spectra (380-780 nm) hold their end values; "
+                             "--spectral-bins exact evaluates the scene's analytic spectra there\n");
         }
     }
     if (!opt.resume.empty()) {

@@ -21,8 +21,12 @@ inline std::uint32_t le32(const std::string& s, std::size_t at) {
 inline std::uint64_t le64(const std::string& s, std::size_t at) {
     return le32(s, at) | static_cast<std::uint64_t>(le32(s, at + 4)) << 32;
 }
-inline float le_float(const std::string& s, std::size_t at) { return std::bit_cast<float>(le32(s, at)); }
-inline double le_double(const std::string& s, std::size_t at) { return std::bit_cast<double>(le64(s, at)); }
+inline float le_float(const std::string& s, std::size_t at) {
+    return std::bit_cast<float>(le32(s, at));
+}
+inline double le_double(const std::string& s, std::size_t at) {
+    return std::bit_cast<double>(le64(s, at));
+}
 
 struct HeaderAttribute {
     std::string type, value;
@@ -37,7 +41,8 @@ inline std::string read_cstring(const std::string& s, std::size_t& at) {
 }
 
 /// Attributes by name; `at` ends just past the header's terminating null byte.
-inline std::map<std::string, HeaderAttribute> parse_exr_header(const std::string& s, std::size_t& at) {
+inline std::map<std::string, HeaderAttribute> parse_exr_header(const std::string& s,
+                                                               std::size_t& at) {
     std::map<std::string, HeaderAttribute> attributes;
     at = 8;
     while (s.at(at) != '\0') {
@@ -66,7 +71,8 @@ inline std::vector<std::string> chlist_names(const std::string& chlist) {
 
 /// Every channel's pixels (row-major, row 0 = top) of a FLOAT scanline file of `width` ×
 /// `height`, read through the offset table.
-inline std::map<std::string, std::vector<float>> read_exr_channels(const std::string& s, int width, int height) {
+inline std::map<std::string, std::vector<float>> read_exr_channels(const std::string& s, int width,
+                                                                   int height) {
     std::size_t at = 0;
     const auto attributes = parse_exr_header(s, at);
     const std::vector<std::string> names = chlist_names(attributes.at("channels").value);
@@ -74,7 +80,8 @@ inline std::map<std::string, std::vector<float>> read_exr_channels(const std::st
     for (const std::string& n : names) channels[n].resize(static_cast<std::size_t>(width) * height);
     for (int y = 0; y < height; ++y) {
         const std::uint64_t offset = le64(s, at + 8 * static_cast<std::size_t>(y));
-        if (le32(s, offset) != static_cast<std::uint32_t>(y)) throw std::runtime_error("scanline order");
+        if (le32(s, offset) != static_cast<std::uint32_t>(y))
+            throw std::runtime_error("scanline order");
         for (std::size_t k = 0; k < names.size(); ++k)
             for (int x = 0; x < width; ++x)
                 channels[names[k]][static_cast<std::size_t>(y) * width + x] =

@@ -422,12 +422,18 @@ namespace {
 TEST_F(Cli, SpectralOutputRefusesWhatItCannotDo) {
     const std::vector<std::pair<std::vector<std::string>, std::string>> cases = {
         {{"--spectral-bands", "4", "-o", "a.png"}, "--spectral-bands: needs an .exr output"},
-        {{"--spectral-bands", "4", "-o", "a.exr", "--integrator", "bdpt"}, "--spectral-bands: only with --integrator path"},
-        {{"--spectral-bands", "4", "-o", "a.exr", "--checkpoint", "c"}, "--checkpoint: not with --spectral-bands"},
-        {{"--spectral-bands", "4", "-o", "a.exr", "--resume", "c"}, "--resume: not with --spectral-bands"},
-        {{"--spectral-range", "300:900", "-o", "a.exr"}, "--spectral-range: needs --spectral-bands N"},
-        {{"--spectral-bands", "4", "--spectral-range", "900:300", "-o", "a.exr"}, "--spectral-range: expected MIN:MAX"},
-        {{"--spectral-bands", "0", "-o", "a.exr"}, "--spectral-bands: expected an integer from 1 to 4096"},
+        {{"--spectral-bands", "4", "-o", "a.exr", "--integrator", "bdpt"},
+         "--spectral-bands: only with --integrator path"},
+        {{"--spectral-bands", "4", "-o", "a.exr", "--checkpoint", "c"},
+         "--checkpoint: not with --spectral-bands"},
+        {{"--spectral-bands", "4", "-o", "a.exr", "--resume", "c"},
+         "--resume: not with --spectral-bands"},
+        {{"--spectral-range", "300:900", "-o", "a.exr"},
+         "--spectral-range: needs --spectral-bands N"},
+        {{"--spectral-bands", "4", "--spectral-range", "900:300", "-o", "a.exr"},
+         "--spectral-range: expected MIN:MAX"},
+        {{"--spectral-bands", "0", "-o", "a.exr"},
+         "--spectral-bands: expected an integer from 1 to 4096"},
         {{"--sensor", "s.csv", "--color-space", "xyz"}, "--color-space: not with --sensor"},
     };
     for (const auto& [args, message] : cases) {
@@ -440,7 +446,8 @@ TEST_F(Cli, SpectralOutputRefusesWhatItCannotDo) {
 
 TEST_F(Cli, BadSensorFileNamesLineAndColumnAndWritesNothing) {
     write_file(m_dir / "bad.csv", "# test\nwavelength_nm,r,g,b\n400,1,1,1\n500,1,oops,1\n");
-    const RunResult r = run({"--width", "4", "--height", "4", "--spp", "1", "--sensor", "bad.csv", "-o", "a.exr"});
+    const RunResult r =
+        run({"--width", "4", "--height", "4", "--spp", "1", "--sensor", "bad.csv", "-o", "a.exr"});
     EXPECT_EQ(r.exit_code, 1);
     EXPECT_NE(r.err.find("bad.csv:4:7: expected a number, got 'oops'"), std::string::npos) << r.err;
     EXPECT_EQ(files(), (std::set<std::string>{"bad.csv"}));
@@ -450,7 +457,8 @@ TEST_F(Cli, BadSensorFileNamesLineAndColumnAndWritesNothing) {
 TEST_F(Cli, CheckpointResumesOnlyWithTheSameSensor) {
     write_file(m_dir / "a.csv", "wavelength_nm,r,g,b\n400,1,1,0\n700,0,1,1\n");
     write_file(m_dir / "b.csv", "wavelength_nm,r,g,b\n400,1,1,0\n700,0,1,2\n");
-    const std::vector<std::string> base = {"--width", "4", "--height", "4", "--spp", "2", "--quiet", "-o", "a.pfm"};
+    const std::vector<std::string> base = {"--width", "4", "--height", "4", "--spp",
+                                           "2", "--quiet", "-o", "a.pfm"};
     auto with = [&](std::vector<std::string> more) {
         more.insert(more.begin(), base.begin(), base.end());
         return more;
@@ -464,8 +472,10 @@ TEST_F(Cli, CheckpointResumesOnlyWithTheSameSensor) {
 }
 
 TEST_F(Cli, ExrHeaderCarriesTheRenderMetadata) {
-    ASSERT_EQ(run({"--width", "4", "--height", "2", "--spp", "3", "--seed", "12345678901234", "--quiet",
-                   "-o", "a.exr"}).exit_code, 0);
+    ASSERT_EQ(run({"--width", "4", "--height", "2", "--spp", "3", "--seed", "12345678901234",
+                   "--quiet", "-o", "a.exr"})
+                  .exit_code,
+              0);
     const std::string exr = read_file(m_dir / "a.exr");
     std::size_t at = 0;
     const auto h = spt::exr_test::parse_exr_header(exr, at);
@@ -489,11 +499,13 @@ TEST_F(Cli, ExrHeaderCarriesTheRenderMetadata) {
 }
 
 TEST_F(Cli, SpectralExrHoldsTheBandsAndWarnsWhereBinnedSpectraEnd) {
-    const std::vector<std::string> base = {"--width", "4", "--height", "2", "--spp", "2", "--spectral-bands",
-                                           "4", "--spectral-range", "300:1100", "-o", "a.exr", "-o", "a.png"};
+    const std::vector<std::string> base = {
+        "--width", "4", "--height", "2", "--spp", "2", "--spectral-bands", "4",
+        "--spectral-range", "300:1100", "-o", "a.exr", "-o", "a.png"};
     const RunResult binned = run(base);
     ASSERT_EQ(binned.exit_code, 0) << binned.err;
-    EXPECT_NE(binned.err.find("warning: --spectral-range reaches beyond 360-830 nm"), std::string::npos);
+    EXPECT_NE(binned.err.find("warning: --spectral-range reaches beyond 360-830 nm"),
+              std::string::npos);
     std::vector<std::string> exact = base;
     exact.insert(exact.end(), {"--spectral-bins", "exact"});
     const RunResult r = run(exact);

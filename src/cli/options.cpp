@@ -40,10 +40,13 @@ void check_spectral_output(const Options& o, bool spectral_range_given) {
         return;
     }
     bool exr = false;
-    for (const std::string& path : o.outputs) exr |= image_format_from_path(path) == ImageFormat::Exr;
-    if (!exr) throw UsageError("--spectral-bands: needs an .exr output (-o FILE.exr) to hold the bands");
+    for (const std::string& path : o.outputs)
+        exr |= image_format_from_path(path) == ImageFormat::Exr;
+    if (!exr)
+        throw UsageError("--spectral-bands: needs an .exr output (-o FILE.exr) to hold the bands");
     if (o.integrator != IntegratorKind::path)
-        throw UsageError("--spectral-bands: only with --integrator path (bdpt and vcm splats are not binned)");
+        throw UsageError(
+            "--spectral-bands: only with --integrator path (bdpt and vcm splats are not binned)");
     if (!o.checkpoint.empty() || !o.resume.empty())
         throw UsageError(std::string(o.checkpoint.empty() ? "--resume" : "--checkpoint") +
                          ": not with --spectral-bands (checkpoints do not hold the bands)");
@@ -188,12 +191,14 @@ Options parse_options(const std::vector<std::string>& args) {
                                                                 SpectralResolution::kMaxBins,
                                                                 "an integer from 1 to 1024 or 'exact'");
         } else if (flag == "--spectral-bands") {
-            o.spectral_bands.count = parse_integer<int>(flag, next_value(), 1, 4096, "an integer from 1 to 4096");
+            o.spectral_bands.count =
+                parse_integer<int>(flag, next_value(), 1, 4096, "an integer from 1 to 4096");
         } else if (flag == "--spectral-range") {
             const std::string v = next_value();
             const std::size_t colon = v.find(':');
             const char* what = "MIN:MAX in nm, 100 <= MIN < MAX <= 3000";
-            if (colon == std::string::npos) throw UsageError(flag + ": expected " + what + ", got '" + v + "'");
+            if (colon == std::string::npos)
+                throw UsageError(flag + ": expected " + what + ", got '" + v + "'");
             o.spectral_bands.min_nm = parse_real(flag, v.substr(0, colon), 100, 3000, what);
             o.spectral_bands.max_nm = parse_real(flag, v.substr(colon + 1), 100, 3000, what);
             if (!(o.spectral_bands.min_nm < o.spectral_bands.max_nm))

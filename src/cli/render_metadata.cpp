@@ -46,8 +46,9 @@ std::vector<ExrAttribute> render_metadata(const Options& opt, const RenderSettin
     };
     if (opt.spectral_bands.count > 0) {
         a.push_back(ExrAttribute::integer("spectralBands", opt.spectral_bands.count));
-        a.push_back(ExrAttribute::text("spectralRangeNm", number_text(opt.spectral_bands.min_nm) + ":" +
-                                                              number_text(opt.spectral_bands.max_nm)));
+        const std::string range = number_text(opt.spectral_bands.min_nm) + ":" +
+                                  number_text(opt.spectral_bands.max_nm);
+        a.push_back(ExrAttribute::text("spectralRangeNm", range));
     }
     return a;
 }

@@ -126,16 +126,20 @@ std::string encode_exr(const Image& image, const ImageWriteOptions& options) {
     out += '\0';  // end of header
 
     // Uncompressed: one scanline per block, each block = y, byte count, then one row per channel.
-    const std::uint64_t data_bytes = std::uint64_t{4} * static_cast<std::uint64_t>(w) * channels.size();
-    if (data_bytes > 0xffffffffu) throw std::invalid_argument("too many channels for one EXR scanline");
+    const std::uint64_t data_bytes =
+        std::uint64_t{4} * static_cast<std::uint64_t>(w) * channels.size();
+    if (data_bytes > 0xffffffffu)
+        throw std::invalid_argument("too many channels for one EXR scanline");
     const std::uint64_t table_end = out.size() + static_cast<std::uint64_t>(h) * 8;
-    for (int y = 0; y < h; ++y) append_le64(out, table_end + (8 + data_bytes) * static_cast<std::uint64_t>(y));
+    for (int y = 0; y < h; ++y)
+        append_le64(out, table_end + (8 + data_bytes) * static_cast<std::uint64_t>(y));
     for (int y = 0; y < h; ++y) {
         append_le32(out, static_cast<std::uint32_t>(y));
         append_le32(out, static_cast<std::uint32_t>(data_bytes));
         for (const ChannelSource& ch : channels) {
             const float* row = ch.base + static_cast<std::size_t>(y) * w * ch.stride;
-            for (int x = 0; x < w; ++x) append_le_float(out, row[static_cast<std::size_t>(x) * ch.stride]);
+            for (int x = 0; x < w; ++x)
+                append_le_float(out, row[static_cast<std::size_t>(x) * ch.stride]);
         }
     }
     return out;

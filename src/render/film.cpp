@@ -105,7 +105,8 @@ void Film::add_to_bands(std::size_t i, const SampledSpectrum& L, const SampledWa
     const double scale = 1.0 / (kLambdaCount * m_bands.width_nm());
     for (int k = 0; k < kLambdaCount; ++k) {
         const int b = m_bands.band_of(lambda.lambda[k]);
-        if (b >= 0 && lambda.pdf[k] > 0.f) sums[b] += static_cast<double>(L[k]) / lambda.pdf[k] * scale;
+        if (b >= 0 && lambda.pdf[k] > 0.f)
+            sums[b] += static_cast<double>(L[k]) / lambda.pdf[k] * scale;
     }
 }
 

@@ -266,7 +266,8 @@ RenderStats render(const Scene& scene, const RenderSettings& settings, Film& fil
     std::optional<BdptContext> bidir;  // what both bidirectional integrators share
     if (bdpt || vcm) {
         lights.emplace(scene);
-        bidir.emplace(scene, camera, *lights, settings.integrator, settings.width, &film.observer());
+        bidir.emplace(scene, camera, *lights, settings.integrator, settings.width,
+                      &film.observer());
     }
     SplatMerger merger(film);
     std::optional<VcmPasses> vcm_passes;

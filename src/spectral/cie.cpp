@@ -17,7 +17,8 @@ Observer load_cie1931() {
         throw std::runtime_error("spectra/cie_1931_2deg.csv must cover 360-830 nm at 1 nm");
     std::vector<Float4> rows;
     for (std::size_t i = 0; i < l.size(); ++i)
-        rows.push_back(Float4{static_cast<float>(xs[i]), static_cast<float>(ys[i]), static_cast<float>(zs[i]), 0.f});
+        rows.push_back(Float4{static_cast<float>(xs[i]), static_cast<float>(ys[i]),
+                              static_cast<float>(zs[i]), 0.f});
     return Observer("CIE 1931 2 degree", rows);
 }
 

@@ -47,7 +47,8 @@ Observer parse_sensor(std::string_view text, const std::string& origin) {
                              " nm is outside 360-830 nm, the range the film integrates over");
         for (int c = 0; c < 3; ++c)
             if (table.columns[c][row] < 0.0)
-                fail(row, c + 1, "sensitivity " + table.column_names[c + 1] + " is negative; expected >= 0");
+                fail(row, c + 1,
+                     "sensitivity " + table.column_names[c + 1] + " is negative; expected >= 0");
     }
     // Linear between rows, 0 outside them: the same curve colour-science's linear interpolation
     // gives on the data's own range.
@@ -60,7 +61,8 @@ Observer parse_sensor(std::string_view text, const std::string& origin) {
             while (seg + 2 < l.size() && lambda > l[seg + 1]) ++seg;
             const double t = (lambda - l[seg]) / (l[seg + 1] - l[seg]);
             for (int c = 0; c < 3; ++c)
-                r[c] = static_cast<float>((1.0 - t) * table.columns[c][seg] + t * table.columns[c][seg + 1]);
+                r[c] = static_cast<float>((1.0 - t) * table.columns[c][seg] +
+                                          t * table.columns[c][seg + 1]);
         }
         rows.push_back(r);
     }

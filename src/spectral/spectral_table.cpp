@@ -26,8 +26,10 @@ std::vector<std::string_view> split(std::string_view line, char sep) {
 }
 
 /// "origin:line:column" of a field (columns counted in bytes from 1).
-std::string where(const std::string& origin, int line, std::string_view row, std::string_view field) {
-    return origin + ":" + std::to_string(line) + ":" + std::to_string(field.data() - row.data() + 1);
+std::string where(const std::string& origin, int line, std::string_view row,
+                  std::string_view field) {
+    return origin + ":" + std::to_string(line) + ":" +
+           std::to_string(field.data() - row.data() + 1);
 }
 
 double parse_number(std::string_view s, const std::string& origin, int line, std::string_view row) {

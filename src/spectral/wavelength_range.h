@@ -19,7 +19,8 @@ struct WideWavelengthSampling {
 
     /// Density per nm: ½·visible_wavelength_pdf + ½·uniform over [min_nm, max_nm].
     float pdf(float lambda_nm) const {
-        const float uniform = lambda_nm >= min_nm && lambda_nm <= max_nm ? 1.f / (max_nm - min_nm) : 0.f;
+        const bool inside = lambda_nm >= min_nm && lambda_nm <= max_nm;
+        const float uniform = inside ? 1.f / (max_nm - min_nm) : 0.f;
         return 0.5f * visible_wavelength_pdf(lambda_nm) + 0.5f * uniform;
     }
 
@@ -31,8 +32,9 @@ struct WideWavelengthSampling {
         for (int k = 0; k < kLambdaCount; ++k) {
             float uk = u + static_cast<float>(k) / kLambdaCount;
             if (uk >= 1.f) uk -= 1.f;
-            const float lambda = uk < 0.5f ? min_nm + 2.f * uk * (max_nm - min_nm)
-                                           : sample_visible_wavelength(std::min(2.f * uk - 1.f, 0x1.fffffep-1f));
+            const float lambda =
+                uk < 0.5f ? min_nm + 2.f * uk * (max_nm - min_nm)
+                          : sample_visible_wavelength(std::min(2.f * uk - 1.f, 0x1.fffffep-1f));
             w.lambda[k] = lambda;
             w.pdf[k] = pdf(lambda);
         }
