@@ -9,9 +9,9 @@
 #include <vector>
 
 #include "io/image.h"
-#include "spectral/spectral_bands.h"
 #include "spectral/cie.h"
 #include "spectral/color_space.h"
+#include "spectral/spectral_bands.h"
 
 namespace spt {
 
@@ -44,8 +44,9 @@ public:
 
     // ---- Spectral bands (spectral EXR output): empty unless enable_bands was called ----
     // Per pixel and band b of width Δ, the mean over samples of
-    // Σ_k L(λk)·[λk ∈ b]/(pdf(λk)·K·Δ): an unbiased estimate of the band's mean spectral radiance (1/Δ)∫_b L dλ, with the same
-    // pdf division as the observer's to_xyz (terminated companions, pdf 0, add nothing).
+    // Σ_k L(λk)·[λk ∈ b]/(pdf(λk)·K·Δ): an unbiased estimate of the band's mean spectral
+    // radiance (1/Δ)∫_b L dλ, with the same pdf division as the observer's to_xyz (terminated
+    // companions, pdf 0, add nothing). A film without bands pays one untaken branch.
 
     /// Starts accumulating `bands` (count > 0) from now on; call before any sample.
     void enable_bands(const SpectralBands& bands);
