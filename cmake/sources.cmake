@@ -5,6 +5,7 @@ set(SPT_CORE_SOURCES
     src/cli/integrator_choice.cpp
     src/cli/options.cpp
     src/cli/progress_bar.cpp
+    src/cli/render_metadata.cpp
     src/core/text.cpp
     src/geometry/bvh.cpp
     src/geometry/mesh_closure.cpp
@@ -37,6 +38,8 @@ set(SPT_CORE_SOURCES
     src/spectral/chromatic_adaptation.cpp
     src/spectral/cie.cpp
     src/spectral/glass_catalog.cpp
+    src/spectral/observer.cpp
+    src/spectral/sensor.cpp
     src/spectral/color_space.cpp
     src/spectral/rgb_to_spectrum.cpp
     src/spectral/spectral_table.cpp

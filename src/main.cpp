@@ -16,6 +16,7 @@
 #include "cli/image_size.h"
 #include "cli/options.h"
 #include "cli/progress_bar.h"
+#include "cli/render_metadata.h"
 #include "io/atomic_file.h"
 #include "io/auto_exposure.h"
 #include "io/image_writer.h"
@@ -25,6 +26,7 @@
 #include "scene/json_checker.h"
 #include "scene/scene_loader.h"
 #include "spectral/rgb_to_spectrum.h"
+#include "spectral/sensor.h"
 
 namespace {
 
@@ -66,15 +68,18 @@ void print_summary(const spt::Scene& scene, const spt::RenderSettings& rs, const
 }
 
 /// Writes every output; returns the stops --auto-exposure added to the PNGs (nullopt without it).
-std::optional<double> write_outputs(const spt::Options& opt,
-                                    const std::vector<std::string>& outputs,
-                                    const spt::Film& film) {
+std::optional<double> write_outputs(const spt::Options& opt, const std::vector<std::string>& outputs,
+                                    const spt::Film& film, std::vector<spt::ExrAttribute> metadata) {
     // White balance is a colour transform, so it reaches the linear outputs too.
     const auto balanced = [&](const spt::ColorSpace& cs) {
         return opt.white_balance ? spt::white_balanced(cs, *opt.white_balance) : cs;
     };
     const spt::ColorSpace space = balanced(*spt::color_space_by_name(opt.color_space));
-    const spt::Image image = film.develop(space);
+    // A sensor's raw camera RGB is written as it is, in every format (no colour space).
+    const bool raw = !opt.sensor.empty();
+    const spt::Image image = raw ? film.develop_raw() : film.develop(space);
+    spt::SpectralImage spectral;
+    if (film.has_bands()) spectral = {film.bands(), film.develop_bands()};
     // A PNG is an sRGB file by definition: it is always developed to sRGB, whatever the
     // --color-space of the linear outputs.
     std::optional<spt::Image> srgb_image;
@@ -88,11 +93,14 @@ std::optional<double> write_outputs(const spt::Options& opt,
                          {float(space.blue[0]), float(space.blue[1])},
                          {float(space.white[0]), float(space.white[1])}};
     std::optional<double> auto_stops;
+    wo.exr_chromaticities = !raw;
+    wo.exr_attributes = std::move(metadata);
+    if (film.has_bands()) wo.spectral = &spectral;
     std::vector<std::pair<std::string, std::string>> files;
     for (const std::string& path : outputs) {
         const spt::ImageFormat format = *spt::image_format_from_path(path);  // checked by the parser
         const spt::Image* source = &image;
-        if (format == spt::ImageFormat::Png && space.name != "srgb") {
+        if (format == spt::ImageFormat::Png && space.name != "srgb" && !raw) {
             if (!srgb_image) srgb_image = film.develop(srgb);
             source = &*srgb_image;
         }
@@ -149,6 +157,10 @@ int run(const spt::Options& opt) {
     std::optional<spt::Scene> scene = load_scene(opt);
     const double load_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - load_start).count();
     const spt::IntegratorChoice integrator = spt::choose_integrator(opt, *scene);
+    if (opt.spectral_bands.count > 0 && integrator.settings.kind != spt::IntegratorKind::path)
+        throw spt::UsageError(std::string("--spectral-bands: only with the path integrator (bdpt and vcm splats are "
+                                          "not binned); the scene file chooses ") +
+                              spt::integrator_name(integrator.settings.kind) + ", add --integrator path");
     std::vector<std::string> outputs = opt.outputs;
     if (outputs.empty()) outputs.push_back(scene->name + ".png");
     std::vector<std::string> warnings = scene->warnings;
@@ -179,6 +191,9 @@ int run(const spt::Options& opt) {
             throw std::runtime_error("cannot write '" + path + "': it is a directory");
     }
 
+    std::optional<spt::Observer> sensor;
+    if (!opt.sensor.empty()) sensor.emplace(spt::load_sensor(opt.sensor));
+
     // ---- Checkpoints: what must match to resume, and the state of the last whole pass ----
     const char* light_sampling[] = {"", " light-sampling=bsdf", " light-sampling=light"};
     const spt::IntegratorKind kind = rs.integrator.kind;
@@ -188,10 +203,26 @@ int run(const spt::Options& opt) {
                                 (kind == spt::IntegratorKind::path ? std::string()
                                     : std::string(" integrator=") + spt::integrator_name(kind)) +
                                 (kind == spt::IntegratorKind::vcm && rs.integrator.merge_radius > 0
-                                     ? " merge-radius=" + std::to_string(rs.integrator.merge_radius) : std::string());
+                                     ? " merge-radius=" + std::to_string(rs.integrator.merge_radius) : std::string()) +
+                                (sensor ? " sensor=" + opt.sensor + "#" + std::to_string(sensor->fingerprint())
+                                        : std::string());
     spt::CheckpointInfo info{opt.scene, variant, rs.width, rs.height, rs.spp, opt.spectral.bins,
                              rs.integrator.max_depth, rs.seed, 0};
-    spt::Film film(rs.width, rs.height);
+    spt::Film film(rs.width, rs.height, sensor ? *sensor : spt::Cie1931::get());
+    if (const spt::SpectralBands& bands = opt.spectral_bands; bands.count > 0) {
+        film.enable_bands(bands);
+        // Beyond 360-830 nm: wavelengths the XYZ film never sees, so neither the visible
+        // density nor (unless exact) the scene's 380-780 nm bins cover them.
+        if (bands.min_nm < spt::kLambdaMin || bands.max_nm > spt::kLambdaMax) {
+            rs.wide_wavelengths = spt::WideWavelengthSampling::covering(
+                static_cast<float>(bands.min_nm), static_cast<float>(bands.max_nm));
+            if (opt.spectral.bins != spt::SpectralResolution::kExact)
+                std::fprintf(stderr,
+                             "pathtracer: warning: --spectral-range reaches beyond 360-830 nm, "
+                             "where binned spectra (380-780 nm) hold their end values; "
+                             "--spectral-bins exact evaluates the scene's analytic spectra there\n");
+        }
+    }
     if (!opt.resume.empty()) {
         const spt::CheckpointInfo saved = spt::read_checkpoint_info(opt.resume);
         if (!saved.same_render(info))
@@ -228,7 +259,8 @@ int run(const spt::Options& opt) {
     const spt::RenderStats stats = spt::render(*scene, rs, film, hooks);
     bar.finish();
 
-    const std::optional<double> auto_stops = write_outputs(opt, outputs, film);
+    const std::optional<double> auto_stops =
+        write_outputs(opt, outputs, film, spt::render_metadata(opt, rs, stats, film.observer()));
     if (!opt.checkpoint.empty()) {
         info.samples_completed = stats.cancelled ? last_whole_samples : stats.samples_completed;
         spt::save_checkpoint(opt.checkpoint, info, stats.cancelled ? last_whole_pass : film.save_state());

@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "cli/options.h"
+#include "exr_reader.h"
 
 #ifndef SPT_PATHTRACER
 #error "SPT_PATHTRACER must name the pathtracer program"
@@ -223,6 +224,7 @@ TEST_F(Cli, BadArgumentsExitTwoWithOneLineNamingTheFlag) {
         {{"--sp", "3"}, {"--sp", "Did you mean \"--spp\"?"}},
         {{"--integrater=vcm"}, {"--integrater", "Did you mean \"--integrator\"?"}},
         {{"cornel-point"}, {"cornel-point", "Did you mean \"cornell-point\"?"}},
+        {{"prism", "-o", "b.exr", "--spectral-bands", "4"}, {"--spectral-bands", "chooses vcm, add --integrator path"}},
         {{"--merge-radius", "0"}, {"--merge-radius", "'0'"}},
         {{"--merge-radius", "-1"}, {"--merge-radius", "-1"}},
         {{"--merge-radius", "abc"}, {"--merge-radius", "abc"}},
@@ -660,6 +662,111 @@ TEST(CliFlags, HelpReadmeAndSuggestionsKnowTheSameFlags) {
             EXPECT_EQ(std::string(e.what()).find("unknown option"), std::string::npos) << f << ": " << e.what();
         }
     }
+}
+
+}  // namespace
+
+// ---- Spectral output, sensor and EXR metadata (src/cli/render_metadata.h) ----
+
+namespace {
+
+TEST_F(Cli, SpectralOutputRefusesWhatItCannotDo) {
+    const std::vector<std::pair<std::vector<std::string>, std::string>> cases = {
+        {{"--spectral-bands", "4", "-o", "a.png"}, "--spectral-bands: needs an .exr output"},
+        {{"--spectral-bands", "4", "-o", "a.exr", "--integrator", "bdpt"},
+         "--spectral-bands: only with --integrator path"},
+        {{"--spectral-bands", "4", "-o", "a.exr", "--checkpoint", "c"},
+         "--checkpoint: not with --spectral-bands"},
+        {{"--spectral-bands", "4", "-o", "a.exr", "--resume", "c"},
+         "--resume: not with --spectral-bands"},
+        {{"--spectral-range", "300:900", "-o", "a.exr"},
+         "--spectral-range: needs --spectral-bands N"},
+        {{"--spectral-bands", "4", "--spectral-range", "900:300", "-o", "a.exr"},
+         "--spectral-range: expected MIN:MAX"},
+        {{"--spectral-bands", "0", "-o", "a.exr"},
+         "--spectral-bands: expected an integer from 1 to 4096"},
+        {{"--sensor", "s.csv", "--color-space", "xyz"}, "--color-space: not with --sensor"},
+    };
+    for (const auto& [args, message] : cases) {
+        const RunResult r = run(args);
+        EXPECT_EQ(r.exit_code, 2) << join(args);
+        EXPECT_NE(r.err.find(message), std::string::npos) << join(args) << ": " << r.err;
+        EXPECT_TRUE(files().empty()) << join(args);
+    }
+}
+
+TEST_F(Cli, BadSensorFileNamesLineAndColumnAndWritesNothing) {
+    write_file(m_dir / "bad.csv", "# test\nwavelength_nm,r,g,b\n400,1,1,1\n500,1,oops,1\n");
+    const RunResult r =
+        run({"--width", "4", "--height", "4", "--spp", "1", "--sensor", "bad.csv", "-o", "a.exr"});
+    EXPECT_EQ(r.exit_code, 1);
+    EXPECT_NE(r.err.find("bad.csv:4:7: expected a number, got 'oops'"), std::string::npos) << r.err;
+    EXPECT_EQ(files(), (std::set<std::string>{"bad.csv"}));
+}
+
+// The film's sums are the sensor's RGB: a checkpoint resumes only with the same curves.
+TEST_F(Cli, CheckpointResumesOnlyWithTheSameSensor) {
+    write_file(m_dir / "a.csv", "wavelength_nm,r,g,b\n400,1,1,0\n700,0,1,1\n");
+    write_file(m_dir / "b.csv", "wavelength_nm,r,g,b\n400,1,1,0\n700,0,1,2\n");
+    const std::vector<std::string> base = {"--width", "4", "--height", "4", "--spp",
+                                           "2", "--quiet", "-o", "a.pfm"};
+    auto with = [&](std::vector<std::string> more) {
+        more.insert(more.begin(), base.begin(), base.end());
+        return more;
+    };
+    ASSERT_EQ(run(with({"--sensor", "a.csv", "--checkpoint", "c.ckpt"})).exit_code, 0);
+    const RunResult other = run(with({"--sensor", "b.csv", "--resume", "c.ckpt"}));
+    EXPECT_NE(other.exit_code, 0);
+    EXPECT_NE(other.err.find("cannot resume"), std::string::npos) << other.err;
+    EXPECT_NE(run(with({"--resume", "c.ckpt"})).exit_code, 0);  // nor with the CIE observer
+    EXPECT_EQ(run(with({"--sensor", "a.csv", "--resume", "c.ckpt"})).exit_code, 0);
+}
+
+TEST_F(Cli, ExrHeaderCarriesTheRenderMetadata) {
+    ASSERT_EQ(run({"--width", "4", "--height", "2", "--spp", "3", "--seed", "12345678901234",
+                   "--quiet", "-o", "a.exr"})
+                  .exit_code,
+              0);
+    const std::string exr = read_file(m_dir / "a.exr");
+    std::size_t at = 0;
+    const auto h = spt::exr_test::parse_exr_header(exr, at);
+    auto text = [&](const char* name) {
+        EXPECT_EQ(h.at(name).type, "string") << name;
+        return h.at(name).value;
+    };
+    EXPECT_EQ(text("software"), std::string("pathtracer ") + SPT_VERSION);
+    EXPECT_EQ(text("scene"), "cornell");
+    EXPECT_EQ(text("integrator"), "path");
+    EXPECT_EQ(text("seed"), "12345678901234");
+    EXPECT_EQ(text("spectralBins"), "16");
+    EXPECT_EQ(text("observer"), "CIE 1931 2 degree");
+    EXPECT_EQ(text("capDate").size(), 19u);  // YYYY:MM:DD hh:mm:ss
+    EXPECT_EQ(h.at("spp").type, "int");
+    EXPECT_EQ(spt::exr_test::le32(h.at("spp").value, 0), 3u);
+    EXPECT_EQ(h.at("renderTimeSeconds").type, "double");
+    const double seconds = spt::exr_test::le_double(h.at("renderTimeSeconds").value, 0);
+    EXPECT_TRUE(seconds >= 0 && seconds < 600) << seconds;
+    EXPECT_EQ(h.count("spectralLayoutVersion"), 0u);  // no bands asked for
+}
+
+TEST_F(Cli, SpectralExrHoldsTheBandsAndWarnsWhereBinnedSpectraEnd) {
+    const std::vector<std::string> base = {
+        "--width", "4", "--height", "2", "--spp", "2", "--spectral-bands", "4",
+        "--spectral-range", "300:1100", "-o", "a.exr", "-o", "a.png"};
+    const RunResult binned = run(base);
+    ASSERT_EQ(binned.exit_code, 0) << binned.err;
+    EXPECT_NE(binned.err.find("warning: --spectral-range reaches beyond 360-830 nm"),
+              std::string::npos);
+    std::vector<std::string> exact = base;
+    exact.insert(exact.end(), {"--spectral-bins", "exact"});
+    const RunResult r = run(exact);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_EQ(r.err.find("warning"), std::string::npos);
+    const auto channels = spt::exr_test::read_exr_channels(read_file(m_dir / "a.exr"), 4, 2);
+    std::vector<std::string> names;
+    for (const auto& [name, pixels] : channels) names.push_back(name);
+    EXPECT_EQ(names, (std::vector<std::string>{"B", "G", "R", "S0.1000,000000nm", "S0.400,000000nm",
+                                               "S0.600,000000nm", "S0.800,000000nm"}));
 }
 
 }  // namespace

@@ -283,7 +283,7 @@ D3 unit_from(double x, double y, double z) { return unit({x, y, z}); }
 /// XYZ of the constant spectrum 1 through the film's colour matching functions (the tables
 /// are piecewise linear between 1-nm entries, so the trapezoid rule on them is exact).
 Xyz xyz_of_constant_one() {
-    const Cie1931& cie = Cie1931::get();
+    const Observer& cie = Cie1931::get();
     Xyz s;
     for (int l = 360; l < 830; ++l) {
         const Xyz a = cie.cmf(float(l)), b = cie.cmf(float(l + 1));

@@ -23,9 +23,16 @@
 #include "io/image.h"
 #include "io/image_writer.h"
 #include "io/tone_map.h"
+#include "exr_reader.h"
 
 namespace spt {
 namespace {
+
+using exr_test::le32;
+using exr_test::le64;
+using exr_test::le_float;
+using exr_test::parse_exr_header;
+using exr_test::read_cstring;
 
 namespace fs = std::filesystem;
 
@@ -39,15 +46,6 @@ Image make_image(int w, int h, const std::function<float(int, int, int)>& value)
     return image;
 }
 
-std::uint32_t le32(const std::string& s, std::size_t at) {
-    std::uint32_t v = 0;
-    for (int i = 3; i >= 0; --i) v = v << 8 | static_cast<std::uint8_t>(s.at(at + i));
-    return v;
-}
-std::uint64_t le64(const std::string& s, std::size_t at) {
-    return le32(s, at) | static_cast<std::uint64_t>(le32(s, at + 4)) << 32;
-}
-float le_float(const std::string& s, std::size_t at) { return std::bit_cast<float>(le32(s, at)); }
 std::uint32_t be32(const std::string& s, std::size_t at) {
     std::uint32_t v = 0;
     for (int i = 0; i < 4; ++i) v = v << 8 | static_cast<std::uint8_t>(s.at(at + i));
@@ -194,35 +192,6 @@ TEST(PfmWriter, BitExactBottomToTop) {
 }
 
 // ---- EXR ------------------------------------------------------------------------------------
-
-struct ExrAttribute {
-    std::string type, value;
-};
-
-std::string read_cstring(const std::string& s, std::size_t& at) {
-    const std::size_t end = s.find('\0', at);
-    if (end == std::string::npos) throw std::runtime_error("unterminated string");
-    std::string text = s.substr(at, end - at);
-    at = end + 1;
-    return text;
-}
-
-/// Attributes by name; `at` ends just past the header's terminating null byte.
-std::map<std::string, ExrAttribute> parse_exr_header(const std::string& s, std::size_t& at) {
-    std::map<std::string, ExrAttribute> attributes;
-    at = 8;
-    while (s.at(at) != '\0') {
-        const std::string name = read_cstring(s, at);
-        ExrAttribute a;
-        a.type = read_cstring(s, at);
-        const std::uint32_t size = le32(s, at);
-        a.value = s.substr(at + 4, size);
-        at += 4 + size;
-        EXPECT_TRUE(attributes.emplace(name, a).second) << "duplicate attribute " << name;
-    }
-    ++at;
-    return attributes;
-}
 
 TEST(ExrWriter, HeaderHasMagicVersionAttributesAndSortedChannels) {
     const Image image = make_image(5, 3, [](int x, int y, int c) { return x + 10.0f * y + c; });

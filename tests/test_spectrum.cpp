@@ -415,7 +415,7 @@ TEST(Cie1931, ConstantSpectrumGivesEqualEnergyXyz) {
     // Estimate: R = 64 independent replicates, each 1024 strata of u → 4096 wavelengths. The
     // tolerance is 4 standard errors of the replicate mean plus 2e-6 for float32 rounding of
     // the pdf and CMF evaluation (a few ulps relative, systematic).
-    const spt::Cie1931& cie = spt::Cie1931::get();
+    const spt::Observer& cie = spt::Cie1931::get();
     constexpr int kReplicates = 64, kStrata = 1024;
     Uniform rng(7);
     double sum[3] = {0, 0, 0}, sum2[3] = {0, 0, 0};

@@ -34,6 +34,7 @@ REPO_ROOT = Path(__file__).resolve().parent.parent
 
 CMFS_NAME = "CIE 1931 2 Degree Standard Observer"
 COLORCHECKER_NAME = "ColorChecker N Ohta"
+CAMERA_NAME = "Nikon 5100 (NPL)"
 
 
 def snake_case(name: str) -> str:
@@ -191,6 +192,27 @@ def generate(out: Path) -> None:
         ["wavelength_nm"] + columns,
         wavelengths,
         np.stack([sd.values for sd in sds], axis=1),
+    )
+
+    # --- A measured camera: spectral sensitivities for --sensor ------------
+    camera = colour.characterisation.MSDS_CAMERA_SENSITIVITIES[CAMERA_NAME]
+    assert list(camera.labels) == ["red", "green", "blue"], camera.labels
+    write_table(
+        out / "camera_nikon_d5100_npl.csv",
+        [
+            "Source: M. M. Darrodi, G. Finlayson, T. Goodman, M. Mackiewicz (2015), "
+            "Reference data set for camera spectral sensitivity estimation, JOSA A 32(3) "
+            "381-391, doi:10.1364/JOSAA.32.000381: Nikon D5100 spectral sensitivities "
+            "measured at the UK National Physical Laboratory (NPL), "
+            f"{range_text(camera.wavelengths)}; colour-science {version} dataset "
+            f"colour.characterisation.MSDS_CAMERA_SENSITIVITIES['{CAMERA_NAME}'].",
+            provenance(f"colour.characterisation.MSDS_CAMERA_SENSITIVITIES['{CAMERA_NAME}']"),
+            "Columns r, g, b = colour-science's red, green, blue (each normalised to a peak "
+            "of 1 by the dataset); the format of --sensor FILE.csv.",
+        ],
+        ["wavelength_nm", "r", "g", "b"],
+        camera.wavelengths,
+        camera.values,
     )
 
 

@@ -21,6 +21,7 @@ SPECTRA_DIR = Path(__file__).resolve().parent.parent / "spectra"
 
 CMFS_NAME = "CIE 1931 2 Degree Standard Observer"
 CHECKER_NAME = "ColorChecker N Ohta"
+CAMERA_NAME = "Nikon 5100 (NPL)"
 
 # Sum of y_bar at 1 nm over 360-830 nm, as tabulated by colour-science (CVRL
 # transcription of the CIE 1931 table). pbrt and others use 106.856895, which
@@ -154,6 +155,12 @@ def reference_columns(filename: str):
             snake_case(name): (sd.wavelengths, sd.values)
             for name, sd in ((n, checker[n]) for n in checker.keys())
         }
+    if filename == "camera_nikon_d5100_npl.csv":
+        camera = colour.characterisation.MSDS_CAMERA_SENSITIVITIES[CAMERA_NAME]
+        return {
+            column: (camera.wavelengths, camera.values[:, i])
+            for i, column in enumerate("rgb")
+        }
     raise KeyError(filename)
 
 
@@ -182,6 +189,12 @@ EXPECTED = {
         81, 380, 780, 5,
         ["Ohta", "1997", "ColorChecker", "5 nm",
          f"colour.SDS_COLOURCHECKERS['{CHECKER_NAME}']"],
+    ),
+    "camera_nikon_d5100_npl.csv": (
+        ["r", "g", "b"],
+        81, 380, 780, 5,
+        ["Darrodi", "2015", "JOSA A 32(3)", "Nikon D5100", "National Physical Laboratory",
+         "5 nm", f"MSDS_CAMERA_SENSITIVITIES['{CAMERA_NAME}']"],
     ),
 }
 

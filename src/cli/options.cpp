@@ -32,13 +32,38 @@ double parse_real(const std::string& flag, const std::string& text, double lo, d
     return value;
 }
 
+/// Combinations the spectral outputs do not support, refused before any work.
+void check_spectral_output(const Options& o, bool spectral_range_given) {
+    if (!o.sensor.empty() && o.color_space != "srgb")
+        throw UsageError("--color-space: not with --sensor (the outputs hold raw camera RGB)");
+    if (!o.sensor.empty() && o.white_balance)
+        throw UsageError("--white-balance: not with --sensor (the outputs hold raw camera RGB)");
+    if (o.spectral_bands.count == 0) {
+        if (spectral_range_given) throw UsageError("--spectral-range: needs --spectral-bands N");
+        return;
+    }
+    bool exr = false;
+    for (const std::string& path : o.outputs)
+        exr |= image_format_from_path(path) == ImageFormat::Exr;
+    if (!exr)
+        throw UsageError("--spectral-bands: needs an .exr output (-o FILE.exr) to hold the bands");
+    // (A scene file's choice of bdpt or vcm is refused once the scene is loaded.)
+    if (o.integrator && *o.integrator != IntegratorKind::path)
+        throw UsageError(
+            "--spectral-bands: only with --integrator path (bdpt and vcm splats are not binned)");
+    if (!o.checkpoint.empty() || !o.resume.empty())
+        throw UsageError(std::string(o.checkpoint.empty() ? "--resume" : "--checkpoint") +
+                         ": not with --spectral-bands (checkpoints do not hold the bands)");
+}
+
 }  // namespace
 
 const std::vector<std::string>& known_flags() {
     static const std::vector<std::string> flags = {
         "--help", "--version", "--list-scenes", "--rgb-to-spectrum", "--quiet", "--spp", "--width",
         "--height", "--scale", "--output", "--exposure", "--auto-exposure", "--tonemap", "--white-balance",
-        "--print-adaptation", "--color-resolution", "--color-space", "--spectral-bins", "--threads", "--seed",
+        "--print-adaptation", "--color-resolution", "--color-space", "--spectral-bins", "--spectral-bands",
+        "--spectral-range", "--sensor", "--threads", "--seed",
         "--checkpoint", "--resume", "--checkpoint-interval", "--time-limit", "--wavelengths-per-path",
         "--integrator", "--light-sampling", "--merge-radius", "--no-dispersion", "--pass-spp", "--max-depth"};
     return flags;
@@ -75,6 +100,17 @@ Options:
   --color-resolution R   PPM integer levels (2 to 2^62; default 2^25)
   --color-space NAME     srgb (default), rec2020, acescg or xyz: linear RGB of the .exr, .pfm
                          and .ppm outputs (a .png is always sRGB)
+  --spectral-bands N     also write N spectral channels into every .exr output (1 to 4096):
+                         band-averaged spectral radiance, channels S0.<centre>nm (Fichet et
+                         al. 2021 layout) beside R, G, B; path integrator only, no checkpoints
+  --spectral-range MIN:MAX   wavelength range of the bands in nm (100 to 3000; default
+                         360:830). Beyond 360-830 nm half the wavelengths are drawn uniformly
+                         over the range, and binned spectra (380-780 nm) hold their end
+                         values there: use --spectral-bins exact for the analytic spectra
+  --sensor FILE.csv      integrate against a camera's spectral sensitivities (columns
+                         wavelength_nm,r,g,b; 360-830 nm) instead of the CIE 1931 observer:
+                         the outputs hold raw camera RGB (no colour space; .png: that RGB
+                         through the sRGB curve), normalised so a constant spectrum 1 gives g = 1
   --spectral-bins N      bins per spectrum, 1 to 1024, or 'exact' to evaluate the
                          analytic spectra at each wavelength (default 16)
   --threads T            worker threads (1 to 1024; default: all cores)
@@ -122,7 +158,7 @@ Diagnostics:
 
 Options parse_options(const std::vector<std::string>& args) {
     Options o;
-    bool scene_given = false;
+    bool scene_given = false, spectral_range_given = false;
     for (std::size_t i = 0; i < args.size(); ++i) {
         const std::string& arg = args[i];
         // --flag=value and --flag value are both accepted.
@@ -202,6 +238,23 @@ Options parse_options(const std::vector<std::string>& args) {
                                            : parse_integer<int>(flag, v, SpectralResolution::kMinBins,
                                                                 SpectralResolution::kMaxBins,
                                                                 "an integer from 1 to 1024 or 'exact'");
+        } else if (flag == "--spectral-bands") {
+            o.spectral_bands.count =
+                parse_integer<int>(flag, next_value(), 1, 4096, "an integer from 1 to 4096");
+        } else if (flag == "--spectral-range") {
+            const std::string v = next_value();
+            const std::size_t colon = v.find(':');
+            const char* what = "MIN:MAX in nm, 100 <= MIN < MAX <= 3000";
+            if (colon == std::string::npos)
+                throw UsageError(flag + ": expected " + what + ", got '" + v + "'");
+            o.spectral_bands.min_nm = parse_real(flag, v.substr(0, colon), 100, 3000, what);
+            o.spectral_bands.max_nm = parse_real(flag, v.substr(colon + 1), 100, 3000, what);
+            if (!(o.spectral_bands.min_nm < o.spectral_bands.max_nm))
+                throw UsageError(flag + ": expected " + what + ", got '" + v + "'");
+            spectral_range_given = true;
+        } else if (flag == "--sensor") {
+            o.sensor = next_value();
+            if (o.sensor.empty()) throw UsageError(flag + ": expected a file name (.csv)");
         } else if (flag == "--threads") {
             o.threads = parse_integer<int>(flag, next_value(), 1, 1024, "an integer from 1 to 1024");
         } else if (flag == "--seed") {
@@ -260,6 +313,7 @@ Options parse_options(const std::vector<std::string>& args) {
     }
     if (o.scale && (o.width || o.height))
         throw UsageError("--scale: cannot be combined with --width or --height");
+    check_spectral_output(o, spectral_range_given);
     return o;
 }
 

@@ -11,6 +11,7 @@
 #include "io/tone_map.h"
 #include "render/integrator.h"
 #include "spectral/chromatic_adaptation.h"
+#include "spectral/spectral_bands.h"
 #include "spectral/spectrum.h"
 
 namespace spt {
@@ -28,6 +29,8 @@ struct Options {
     std::uint64_t color_resolution = 1ull << 25;
     SpectralResolution spectral;
     std::string color_space = "srgb";
+    SpectralBands spectral_bands;  ///< count 0: no spectral channels in the .exr outputs
+    std::string sensor;            ///< camera sensitivities (CSV) instead of CIE 1931; empty: none
     int threads = 0;
     std::uint64_t seed = 0;
     // Integrator settings: unset, the scene file's choice applies, else the default.

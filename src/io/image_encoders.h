@@ -15,6 +15,9 @@ std::string encode_exr(const Image& image, const ImageWriteOptions& options);
 std::string encode_pfm(const Image& image, const ImageWriteOptions& options);
 std::string encode_ppm(const Image& image, const ImageWriteOptions& options);
 
+/// Name of the emissive spectral channel of wavelength λ (Fichet et al. 2021): "S0.555,000000nm".
+std::string spectral_channel_name(double lambda_nm);
+
 inline void append_le32(std::string& out, std::uint32_t v) {
     for (int i = 0; i < 4; ++i) out.push_back(static_cast<char>((v >> (8 * i)) & 0xff));
 }

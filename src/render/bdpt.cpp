@@ -404,7 +404,7 @@ void Bdpt::splat_light_tracing(std::vector<Splat>& splats) {
         c *= mis_weight(s, 1);
         SampledWavelengths lw = m_lambda;
         if (qs.terminated) lw.terminate_secondary();
-        const Xyz xyz = Cie1931::get().to_xyz(c, lw);
+        const Xyz xyz = m_ctx.observer->to_xyz(c, lw);
         const auto pixel = static_cast<std::uint32_t>(static_cast<int>(py) * m_ctx.width + static_cast<int>(px));
         splats.push_back({pixel, static_cast<float>(xyz.x), static_cast<float>(xyz.y), static_cast<float>(xyz.z)});
     }

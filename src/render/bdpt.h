@@ -36,6 +36,7 @@
 #include "render/light_sampling.h"
 #include "render/photon_grid.h"
 #include "spectral/cie.h"
+#include "spectral/cie.h"
 
 namespace spt {
 
@@ -51,6 +52,7 @@ struct BdptContext {
     const LightSampler& lights;
     const IntegratorSettings& settings;
     int width;  ///< film width, for splat pixel indices
+    const Observer* observer = &Cie1931::get();  ///< the film's, for splats
 };
 
 /// Vertex merging (bidirectional path tracing with photon density estimation, Georgiev et al.

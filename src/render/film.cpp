@@ -6,9 +6,10 @@
 
 namespace spt {
 
-Film::Film(int width, int height)
+Film::Film(int width, int height, const Observer& observer)
     : m_width(width),
       m_height(height),
+      m_observer(&observer),
       m_xyz(3 * static_cast<std::size_t>(width) * height, 0.0),
       m_y_squared(static_cast<std::size_t>(width) * height, 0.0),
       m_count(static_cast<std::size_t>(width) * height, 0) {}
@@ -92,6 +93,35 @@ void Film::restore_state(std::string_view in) {
     if (!in.empty()) throw std::runtime_error("film state has trailing bytes");
     m_rejected_nonfinite = counters[0];
     m_rejected_negative = counters[1];
+}
+
+void Film::enable_bands(const SpectralBands& bands) {
+    m_bands = bands;
+    m_band_sums.assign(static_cast<std::size_t>(bands.count) * m_count.size(), 0.0);
+}
+
+void Film::add_to_bands(std::size_t i, const SampledSpectrum& L, const SampledWavelengths& lambda) {
+    double* sums = &m_band_sums[i * static_cast<std::size_t>(m_bands.count)];
+    const double scale = 1.0 / (kLambdaCount * m_bands.width_nm());
+    for (int k = 0; k < kLambdaCount; ++k) {
+        const int b = m_bands.band_of(lambda.lambda[k]);
+        if (b >= 0 && lambda.pdf[k] > 0.f)
+            sums[b] += static_cast<double>(L[k]) / lambda.pdf[k] * scale;
+    }
+}
+
+std::vector<float> Film::develop_bands() const {
+    const auto n = static_cast<std::size_t>(m_bands.count);
+    std::vector<float> out(m_band_sums.size(), 0.f);
+    for (std::size_t i = 0; i < m_count.size(); ++i)
+        if (m_count[i] > 0)
+            for (std::size_t b = 0; b < n; ++b)
+                out[i * n + b] = static_cast<float>(m_band_sums[i * n + b] / m_count[i]);
+    return out;
+}
+
+Image Film::develop_raw() const {
+    return develop(*color_space_by_name("xyz"));  // the identity matrix
 }
 
 Image Film::develop(const ColorSpace& space) const {

@@ -11,12 +11,15 @@
 #include "io/image.h"
 #include "spectral/cie.h"
 #include "spectral/color_space.h"
+#include "spectral/spectral_bands.h"
 
 namespace spt {
 
 class Film {
 public:
-    Film(int width, int height);
+    /// A film integrating against `observer` (XYZ for CIE 1931, raw RGB for a camera sensor);
+    /// the observer must outlive the film.
+    Film(int width, int height, const Observer& observer = Cie1931::get());
 
     /// Adds one path's radiance at the path's wavelengths to pixel (x, y).
     void add_sample(int x, int y, const SampledSpectrum& L, const SampledWavelengths& lambda) {
@@ -33,10 +36,24 @@ public:
         // Paths that found no light add exactly zero: skip the conversion (the sums, all ≥ +0,
         // are the same bits either way).
         if (L.is_zero()) return;
-        const Xyz c = m_cie->to_xyz(L, lambda);
+        const Xyz c = m_observer->to_xyz(L, lambda);
         m_xyz[3 * i] += c.x, m_xyz[3 * i + 1] += c.y, m_xyz[3 * i + 2] += c.z;
         m_y_squared[i] += c.y * c.y;
+        if (!m_band_sums.empty()) [[unlikely]] add_to_bands(i, L, lambda);
     }
+
+    // ---- Spectral bands (spectral EXR output): empty unless enable_bands was called ----
+    // Per pixel and band b of width Δ, the mean over samples of
+    // Σ_k L(λk)·[λk ∈ b]/(pdf(λk)·K·Δ): an unbiased estimate of the band's mean spectral
+    // radiance (1/Δ)∫_b L dλ, with the same pdf division as the observer's to_xyz (terminated
+    // companions, pdf 0, add nothing). A film without bands pays one untaken branch.
+
+    /// Starts accumulating `bands` (count > 0) from now on; call before any sample.
+    void enable_bands(const SpectralBands& bands);
+    const SpectralBands& bands() const { return m_bands; }
+    bool has_bands() const { return !m_band_sums.empty(); }
+    /// Mean band radiance of every pixel: bands().count floats per pixel, row-major.
+    std::vector<float> develop_bands() const;
 
     // ---- Splats: light-path contributions that land on arbitrary pixels (bdpt, t = 1) ----
     // Estimator: pixel = Σ camera samples / count + Σ splats / M, with M = light paths traced
@@ -76,6 +93,9 @@ public:
 
     /// Mean XYZ of every pixel converted to linear RGB of the given colour space.
     Image develop(const ColorSpace& space) const;
+    /// The observer's three values as they are (raw camera RGB for a sensor).
+    Image develop_raw() const;
+    const Observer& observer() const { return *m_observer; }
 
     /// Raw state, for bit-exact comparisons.
     const std::vector<double>& xyz_sums() const { return m_xyz; }
@@ -98,9 +118,12 @@ private:
         return static_cast<double>(m_light_paths) / (static_cast<double>(m_width) * m_height);
     }
     int m_width, m_height;
-    /// Looked up once: Cie1931::get() is an out-of-line call with a guard check, which
-    /// add_sample would otherwise make for every path.
-    const Cie1931* m_cie = &Cie1931::get();
+    void add_to_bands(std::size_t i, const SampledSpectrum& L, const SampledWavelengths& lambda);
+    /// A pointer, not Cie1931::get() per call: that is an out-of-line call with a guard check,
+    /// which add_sample would otherwise make for every path.
+    const Observer* m_observer;
+    SpectralBands m_bands;
+    std::vector<double> m_band_sums;  ///< bands.count per pixel; empty: no spectral output
     std::vector<double> m_xyz;
     std::vector<double> m_splat_xyz, m_splat_y_squared;  ///< empty unless splats were added
     std::uint64_t m_light_paths = 0;

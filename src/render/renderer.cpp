@@ -87,7 +87,9 @@ inline RngStream pixel_stream(const RenderSettings& settings, int x, int y) {
 inline PixelSample start_pixel_sample(const RngStream& stream, int x, int y, int s,
                                       const RenderSettings& settings) {
     Rng rng(stream, static_cast<std::uint64_t>(s));
-    SampledWavelengths lambda = SampledWavelengths::sample(rng.uniform());
+    const float u = rng.uniform();
+    SampledWavelengths lambda = settings.wide_wavelengths ? settings.wide_wavelengths->sample(u)
+                                                          : SampledWavelengths::sample(u);
     if (settings.integrator.wavelengths_per_path == 1) lambda.terminate_secondary();
     const float px = static_cast<float>(x) + rng.uniform();
     const float py = static_cast<float>(y) + rng.uniform();
@@ -264,7 +266,8 @@ RenderStats render(const Scene& scene, const RenderSettings& settings, Film& fil
     std::optional<BdptContext> bidir;  // what both bidirectional integrators share
     if (bdpt || vcm) {
         lights.emplace(scene);
-        bidir.emplace(scene, camera, *lights, settings.integrator, settings.width);
+        bidir.emplace(scene, camera, *lights, settings.integrator, settings.width,
+                      &film.observer());
     }
     SplatMerger merger(film);
     std::optional<VcmPasses> vcm_passes;

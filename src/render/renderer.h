@@ -4,10 +4,12 @@
 #include <atomic>
 #include <cstdint>
 #include <functional>
+#include <optional>
 
 #include "render/film.h"
 #include "render/integrator.h"
 #include "scene/scene.h"
+#include "spectral/wavelength_range.h"
 
 namespace spt {
 
@@ -23,6 +25,9 @@ struct RenderSettings {
     /// would end after this. The first pass always runs, so the image has samples.
     double time_limit = 0;
     IntegratorSettings integrator;
+    /// Set only for spectral output beyond 360-830 nm (path integrator): wavelengths are then
+    /// drawn from this wider density instead of the visible one.
+    std::optional<WideWavelengthSampling> wide_wavelengths;
 };
 
 /// Samples per pass actually used for these settings.

@@ -2,6 +2,7 @@
 #include "spectral/spectral_table.h"
 
 #include <charconv>
+#include <cmath>
 #include <map>
 #include <mutex>
 #include <stdexcept>
@@ -24,11 +25,18 @@ std::vector<std::string_view> split(std::string_view line, char sep) {
     return out;
 }
 
-double parse_number(std::string_view s, const std::string& origin, int line) {
+/// "origin:line:column" of a field (columns counted in bytes from 1).
+std::string where(const std::string& origin, int line, std::string_view row,
+                  std::string_view field) {
+    return origin + ":" + std::to_string(line) + ":" +
+           std::to_string(field.data() - row.data() + 1);
+}
+
+double parse_number(std::string_view s, const std::string& origin, int line, std::string_view row) {
     double v = 0;
     const auto [ptr, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
-    if (ec != std::errc() || ptr != s.data() + s.size())
-        throw std::runtime_error(origin + ":" + std::to_string(line) + ": expected a number, got '" +
+    if (ec != std::errc() || ptr != s.data() + s.size() || !std::isfinite(v))
+        throw std::runtime_error(where(origin, line, row, s) + ": expected a number, got '" +
                                  std::string(s) + "'");
     return v;
 }
@@ -55,22 +63,25 @@ SpectralTable parse_spectral_table(std::string_view text, const std::string& ori
         const auto fields = split(line, ',');
         if (table.column_names.empty()) {
             for (auto f : fields) table.column_names.emplace_back(f);
+            table.header_line = line_no;
             if (table.column_names.size() < 2 || table.column_names[0] != "wavelength_nm")
                 throw std::runtime_error(origin + ":" + std::to_string(line_no) +
-                                         ": expected a header 'wavelength_nm,<columns>'");
+                                         ":1: expected a header 'wavelength_nm,<columns>'");
             table.columns.resize(table.column_names.size() - 1);
             continue;
         }
         if (fields.size() != table.column_names.size())
-            throw std::runtime_error(origin + ":" + std::to_string(line_no) + ": expected " +
-                                     std::to_string(table.column_names.size()) + " fields");
-        const double lambda = parse_number(fields[0], origin, line_no);
+            throw std::runtime_error(origin + ":" + std::to_string(line_no) + ":1: expected " +
+                                     std::to_string(table.column_names.size()) + " fields, got " +
+                                     std::to_string(fields.size()));
+        const double lambda = parse_number(fields[0], origin, line_no, line);
         if (!table.wavelengths_nm.empty() && lambda <= table.wavelengths_nm.back())
             throw std::runtime_error(origin + ":" + std::to_string(line_no) +
-                                     ": wavelengths must increase");
+                                     ":1: wavelengths must increase");
         table.wavelengths_nm.push_back(lambda);
+        table.line_numbers.push_back(line_no);
         for (std::size_t i = 1; i < fields.size(); ++i)
-            table.columns[i - 1].push_back(parse_number(fields[i], origin, line_no));
+            table.columns[i - 1].push_back(parse_number(fields[i], origin, line_no, line));
     }
     if (table.wavelengths_nm.empty())
         throw std::runtime_error(origin + ": no data rows");

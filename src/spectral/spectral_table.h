@@ -11,6 +11,8 @@ struct SpectralTable {
     std::vector<std::string> column_names;  ///< first is "wavelength_nm"
     std::vector<double> wavelengths_nm;
     std::vector<std::vector<double>> columns;  ///< one per column after the wavelength
+    int header_line = 0;                       ///< line of the header in the text (messages)
+    std::vector<int> line_numbers;             ///< line of each row in the text (messages)
 
     /// Values of the named column; throws std::runtime_error when absent.
     const std::vector<double>& column(std::string_view name) const;
