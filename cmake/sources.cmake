@@ -1,6 +1,8 @@
 # Explicit source list of the spt_core library (everything but main.cpp).
 set(SPT_CORE_SOURCES
+    src/cli/live_preview.cpp
     src/cli/options.cpp
+    src/cli/output_names.cpp
     src/cli/progress_bar.cpp
     src/geometry/bvh.cpp
     src/io/atomic_file.cpp
@@ -12,6 +14,7 @@ set(SPT_CORE_SOURCES
     src/io/pfm_writer.cpp
     src/io/ply_reader.cpp
     src/io/png_writer.cpp
+    src/io/tev_client.cpp
     src/io/ppm_writer.cpp
     src/render/bdpt.cpp
     src/render/photon_grid.cpp

@@ -1,10 +1,12 @@
 // Flag parsing: every value is checked, and errors name the flag and what it accepts.
 #include "cli/options.h"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <limits>
 
+#include "cli/output_names.h"
 #include "io/image_writer.h"
 #include "spectral/color_space.h"
 
@@ -54,8 +56,9 @@ Options:
                          analytic spectra at each wavelength (default 16)
   --threads T            worker threads (1 to 1024; default: all cores)
   --seed S               random seed (0 to 2^64-1; default 0); same seed, same image
-                         On SIGINT/SIGTERM the image of the passes done so far is written
-                         and the program exits with status 130/143.
+                         On SIGINT/SIGTERM the unfinished image is written beside each
+                         output X.ext as X.partial.ext (X.ext is left as it was) and the
+                         program exits with status 130/143.
   --wavelengths-per-path K   4 (default: hero wavelength set) or 1 (hero alone)
   --no-dispersion        give dispersive glass its mean index over 380-780 nm (to measure
                          what dispersion costs)
@@ -82,6 +85,14 @@ Options:
                          pass); sets checkpoint and interruption granularity, not the image
   --resume FILE          continue the render saved in FILE (same scene and settings);
                          the result is identical to a render run straight through
+  --preview-interval SECONDS   during the render, rewrite each output X.ext as
+                         X.partial.ext (atomically) at most every SECONDS (0 to 1e6; 0: after
+                         every pass; passes are then made about SECONDS/2 long unless
+                         --pass-spp); a finished render removes it. Default: no previews
+  --display-server HOST[:PORT]   show the render in the tev viewer listening there (port
+                         default 14158; IPv6 as [ADDR]:PORT): the image (named after the
+                         output) is sent after every pass, with passes made about 1 s long
+                         unless --pass-spp, or with the previews of --preview-interval
   --quiet                no progress bar and no summary
   --list-scenes          list the built-in scenes
   -h, --help             this text
@@ -171,6 +182,14 @@ Options parse_options(const std::vector<std::string>& args) {
         } else if (flag == "--checkpoint-interval") {
             o.checkpoint_interval =
                 parse_real(flag, next_value(), 0, 1e6, "a number of seconds from 0 to 1000000");
+        } else if (flag == "--preview-interval") {
+            o.preview_interval =
+                parse_real(flag, next_value(), 0, 1e6, "a number of seconds from 0 to 1000000");
+        } else if (flag == "--display-server") {
+            const std::string v = next_value();
+            o.display_server = parse_display_server(v);
+            if (!o.display_server)
+                throw UsageError(flag + ": expected HOST or HOST:PORT with PORT from 1 to 65535, got '" + v + "'");
         } else if (flag == "--time-limit") {
             o.time_limit = parse_real(flag, next_value(), 0.001, 1e7,
                                       "a number of seconds from 0.001 to 10000000");
@@ -210,6 +229,11 @@ Options parse_options(const std::vector<std::string>& args) {
                              flag == "--list-scenes" || flag == "--quiet" || flag == "--no-dispersion"))
             throw UsageError(flag + ": takes no value");
     }
+    // X.partial.ext is where the unfinished image of X.ext goes: it cannot be an output too.
+    for (const std::string& path : o.outputs)
+        if (std::find(o.outputs.begin(), o.outputs.end(), partial_output_name(path)) != o.outputs.end())
+            throw UsageError("-o: expected names that are not the unfinished-image names of other outputs, got '" +
+                             path + "' and '" + partial_output_name(path) + "'");
     return o;
 }
 

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "io/tev_client.h"
 #include "render/integrator.h"
 #include "spectral/spectrum.h"
 
@@ -38,6 +39,10 @@ struct Options {
     double time_limit = 0;  ///< seconds (0: none): no pass is started that would end later
     double checkpoint_interval = 300;  ///< seconds between checkpoints (after a whole pass)
     std::string resume;                ///< continue the render saved in this checkpoint
+    /// Seconds between preview files (the outputs' partial names, rewritten during the
+    /// render); unset: none. 0: after every pass.
+    std::optional<double> preview_interval;
+    std::optional<DisplayServerAddress> display_server;  ///< a tev viewer to show the render in
     bool quiet = false;
     bool show_help = false;
     bool show_version = false;

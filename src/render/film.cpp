@@ -1,5 +1,6 @@
 #include "render/film.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <stdexcept>
@@ -92,6 +93,11 @@ void Film::restore_state(std::string_view in) {
     if (!in.empty()) throw std::runtime_error("film state has trailing bytes");
     m_rejected_nonfinite = counters[0];
     m_rejected_negative = counters[1];
+}
+
+std::pair<std::uint32_t, std::uint32_t> Film::sample_count_range() const {
+    const auto [fewest, most] = std::minmax_element(m_count.begin(), m_count.end());
+    return {*fewest, *most};
 }
 
 Image Film::develop(const ColorSpace& space) const {
