@@ -180,7 +180,8 @@ int run(const spt::Options& opt) {
     preview.render_ended(film);
 
     // An unfinished image never replaces an output: it goes beside it, under its partial name.
-    const std::vector<std::string> written = stats.cancelled ? spt::partial_output_names(outputs) : outputs;
+    const std::vector<std::string> written =
+        stats.cancelled ? spt::partial_output_names(outputs) : outputs;
     write_outputs(opt, written, film);
     if (!stats.cancelled) preview.remove_preview_files();
     if (!opt.checkpoint.empty()) {
@@ -208,8 +209,8 @@ int run(const spt::Options& opt) {
         for (const std::string& path : written)
             std::fprintf(stderr, "  wrote %s (%s per pixel)\n", path.c_str(), spp.c_str());
         if (!opt.checkpoint.empty())
-            std::fprintf(stderr, "  the checkpoint %s holds the whole passes: %d spp\n", opt.checkpoint.c_str(),
-                         last_whole_samples);
+            std::fprintf(stderr, "  the checkpoint %s holds the whole passes: %d spp\n",
+                         opt.checkpoint.c_str(), last_whole_samples);
         return 128 + g_signal.load();
     }
     return 0;

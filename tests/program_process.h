@@ -54,7 +54,8 @@ inline int run(const std::vector<std::string>& args, const std::filesystem::path
 /// Waits until `log` contains `text` (true) or `seconds` have passed (false). Without --quiet
 /// the program prints its first "progress" line once a pass has run 0.2 s, after it has
 /// started catching SIGINT and SIGTERM: waiting for it makes an interrupt land in the render.
-inline bool wait_for_log(const std::filesystem::path& log, const std::string& text, double seconds = 60) {
+inline bool wait_for_log(const std::filesystem::path& log, const std::string& text,
+                         double seconds = 60) {
     const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
     while (std::chrono::steady_clock::now() < deadline) {
         if (read_file(log).find(text) != std::string::npos) return true;

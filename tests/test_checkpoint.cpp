@@ -39,11 +39,12 @@ protected:
     }
     /// Renders far more samples than a test waits for, in passes of `pass_spp`, to these
     /// outputs (not quiet: the log shows when the render has started).
-    pid_t spawn_long_render(int width, int height, int pass_spp, const std::vector<std::string>& outputs,
+    pid_t spawn_long_render(int width, int height, int pass_spp,
+                            const std::vector<std::string>& outputs,
                             const std::vector<std::string>& more = {}) const {
-        std::vector<std::string> args = {"--width", std::to_string(width), "--height", std::to_string(height),
-                                         "--spp", "100000", "--pass-spp", std::to_string(pass_spp),
-                                         "--threads", "2"};
+        std::vector<std::string> args = {"--width", std::to_string(width), "--height",
+                                         std::to_string(height), "--spp", "100000", "--pass-spp",
+                                         std::to_string(pass_spp), "--threads", "2"};
         for (const std::string& out : outputs) args.insert(args.end(), {"-o", (dir / out).string()});
         args.insert(args.end(), more.begin(), more.end());
         return spawn(args, dir / "log");
@@ -80,7 +81,8 @@ std::pair<int, int> reported_spp(const std::string& log, const std::string& path
 /// first pass has ended; the interrupt then rewrites them with the latest film.)
 TEST_F(Checkpoint, SigintWritesPartialNamesAndLeavesTheOutputsUntouched) {
     std::ofstream(dir / "keep.pfm", std::ios::binary) << "the image of an earlier render";
-    const pid_t pid = spawn_long_render(48, 40, 1, {"keep.pfm", "new.png"}, {"--preview-interval", "0"});
+    const pid_t pid =
+        spawn_long_render(48, 40, 1, {"keep.pfm", "new.png"}, {"--preview-interval", "0"});
     const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
     while (!fs::exists(dir / "new.partial.png") && std::chrono::steady_clock::now() < deadline)
         std::this_thread::sleep_for(std::chrono::milliseconds(5));

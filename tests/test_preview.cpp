@@ -59,9 +59,11 @@ protected:
         fs::create_directories(dir);
     }
     void TearDown() override { fs::remove_all(dir); }
-    std::vector<std::string> args(int width, int height, int spp, const std::vector<std::string>& more) const {
-        std::vector<std::string> a = {"--width", std::to_string(width), "--height", std::to_string(height),
-                                      "--spp", std::to_string(spp), "--threads", "2", "--seed", "3"};
+    std::vector<std::string> args(int width, int height, int spp,
+                                  const std::vector<std::string>& more) const {
+        std::vector<std::string> a = {"--width", std::to_string(width), "--height",
+                                      std::to_string(height), "--spp", std::to_string(spp),
+                                      "--threads", "2", "--seed", "3"};
         a.insert(a.end(), more.begin(), more.end());
         return a;
     }
@@ -74,8 +76,9 @@ protected:
 /// preview removed. The "preview:" line names the file and the interval.
 TEST_F(Preview, FilesAreWholeDuringTheRenderAndRemovedAtTheEnd) {
     const int w = 48, h = 40;
-    const pid_t pid = spawn(args(w, h, 400, {"--pass-spp", "1", "--preview-interval", "0", "-o", path("out.pfm")}),
-                            dir / "log");
+    const pid_t pid =
+        spawn(args(w, h, 400, {"--pass-spp", "1", "--preview-interval", "0", "-o", path("out.pfm")}),
+              dir / "log");
     const std::size_t whole = std::string("PF\n48 40\n-1.0\n").size() + std::size_t(w) * h * 12;
     int seen = 0, broken = 0;
     while (waitpid(pid, nullptr, WNOHANG) == 0) {
@@ -89,8 +92,8 @@ TEST_F(Preview, FilesAreWholeDuringTheRenderAndRemovedAtTheEnd) {
     EXPECT_EQ(broken, 0) << "of " << seen << " reads";
     EXPECT_TRUE(fs::exists(dir / "out.pfm"));
     EXPECT_FALSE(fs::exists(dir / "out.partial.pfm")) << "the finished render removes its preview";
-    EXPECT_NE(read_file(dir / "log").find("preview: " + path("out.partial.pfm") + " every 0 s"), std::string::npos)
-        << read_file(dir / "log");
+    const std::string log = read_file(dir / "log");
+    EXPECT_NE(log.find("preview: " + path("out.partial.pfm") + " every 0 s"), std::string::npos) << log;
 }
 
 /// A finished render removes only the preview files it wrote: the unfinished image of an
@@ -99,7 +102,9 @@ TEST_F(Preview, ARunWithoutPreviewsLeavesAnEarlierPartialFile) {
     std::ofstream(dir / "out.partial.pfm", std::ios::binary) << "earlier";
     ASSERT_EQ(run(args(8, 8, 2, {"--quiet", "-o", path("out.pfm")}), dir / "log"), 0);
     EXPECT_EQ(read_file(dir / "out.partial.pfm"), "earlier");
-    ASSERT_EQ(run(args(8, 8, 2, {"--quiet", "--preview-interval", "0", "-o", path("out.pfm")}), dir / "log"), 0);
+    ASSERT_EQ(run(args(8, 8, 2, {"--quiet", "--preview-interval", "0", "-o", path("out.pfm")}),
+                  dir / "log"),
+              0);
     EXPECT_FALSE(fs::exists(dir / "out.partial.pfm"));
 }
 
@@ -138,8 +143,8 @@ double mtime_seconds(const fs::path& p) {
 /// from the file's modification times.
 TEST_F(Preview, IntervalSpacesThePreviews) {
     const double interval = 0.25;
-    const pid_t pid = spawn(args(400, 300, 100000, {"--preview-interval", "0.25", "-o", path("out.pfm")}),
-                            dir / "log");
+    const pid_t pid =
+        spawn(args(400, 300, 100000, {"--preview-interval", "0.25", "-o", path("out.pfm")}), dir / "log");
     std::vector<double> writes;
     const auto stop = std::chrono::steady_clock::now() + std::chrono::seconds(3);
     while (std::chrono::steady_clock::now() < stop) {
@@ -149,10 +154,10 @@ TEST_F(Preview, IntervalSpacesThePreviews) {
     }
     kill(pid, SIGINT);
     EXPECT_EQ(wait_exit(pid), 130);
-    ASSERT_GE(writes.size(), 4u) << "previews in 3 s with an interval of 0.25 s\n" << read_file(dir / "log");
+    ASSERT_GE(writes.size(), 4u) << "previews in 3 s, interval 0.25 s\n" << read_file(dir / "log");
     for (std::size_t i = 1; i < writes.size(); ++i)
         // A preview starts S after the last one started; its encoding time varies a little.
-        EXPECT_GT(writes[i] - writes[i - 1], 0.8 * interval) << "between previews " << i - 1 << " and " << i;
+        EXPECT_GT(writes[i] - writes[i - 1], 0.8 * interval) << "previews " << i - 1 << " and " << i;
 }
 
 }  // namespace

@@ -71,7 +71,8 @@ struct FakeServer {
         const int client = ::accept(fd, nullptr, nullptr);
         std::string bytes;
         char buffer[1 << 16];
-        for (ssize_t n; (n = ::recv(client, buffer, sizeof buffer, 0)) > 0;) bytes.append(buffer, std::size_t(n));
+        for (ssize_t n; (n = ::recv(client, buffer, sizeof buffer, 0)) > 0;)
+            bytes.append(buffer, std::size_t(n));
         ::close(client);
         return bytes;
     }
@@ -188,7 +189,8 @@ std::vector<float> pfm_pixels(const std::string& bytes, int width, int height) {
     if (bytes.rfind(header, 0) != 0 || bytes.size() != header.size() + rgb.size() * 4) return {};
     PacketReader r(bytes, header.size(), bytes.size());
     for (int y = height - 1; y >= 0; --y)
-        for (std::size_t i = 0; i < std::size_t(width) * 3; ++i) rgb[std::size_t(y) * width * 3 + i] = r.f32();
+        for (std::size_t i = 0; i < std::size_t(width) * 3; ++i)
+            rgb[std::size_t(y) * width * 3 + i] = r.f32();
     return rgb;
 }
 
@@ -206,10 +208,11 @@ protected:
     ViewerState render_to_fake_server(int width, int height, const std::vector<std::string>& more) {
         FakeServer server;
         EXPECT_GT(server.port, 0);
-        std::vector<std::string> args = {"--width", std::to_string(width), "--height", std::to_string(height),
-                                         "--threads", "2", "--seed", "11", "--color-space", "rec2020",
-                                         "--display-server", "127.0.0.1:" + std::to_string(server.port),
-                                         "-o", (dir / "render.pfm").string(), "-o", (dir / "render.png").string()};
+        std::vector<std::string> args = {
+            "--width", std::to_string(width), "--height", std::to_string(height), "--threads", "2",
+            "--seed", "11", "--color-space", "rec2020",
+            "--display-server", "127.0.0.1:" + std::to_string(server.port),
+            "-o", (dir / "render.pfm").string(), "-o", (dir / "render.png").string()};
         args.insert(args.end(), more.begin(), more.end());
         const pid_t pid = test::spawn(args, dir / "log");
         const std::string stream = server.receive_all();
@@ -257,8 +260,8 @@ TEST_F(DisplayServer, UnreachableServerIsAWarningAndTheRenderGoesOn) {
         port = closed.port;
     }
     const std::string address = "127.0.0.1:" + std::to_string(port);
-    EXPECT_EQ(test::run({"--width", "8", "--height", "8", "--spp", "2", "--quiet", "--display-server", address,
-                         "-o", (dir / "out.pfm").string()},
+    EXPECT_EQ(test::run({"--width", "8", "--height", "8", "--spp", "2", "--quiet", "--display-server",
+                         address, "-o", (dir / "out.pfm").string()},
                         dir / "log"),
               0);
     const std::string log = read_file(dir / "log");

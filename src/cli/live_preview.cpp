@@ -32,7 +32,8 @@ LivePreview::LivePreview(PreviewSettings settings, WriteImages write, int width,
       m_viewer_image(std::filesystem::path(m_settings.outputs.front()).stem().string()),
       m_last_files(std::chrono::steady_clock::now()) {
     if (m_settings.interval && !m_settings.quiet)
-        std::fprintf(stderr, "preview: %s every %g s\n", join(m_partial_names).c_str(), *m_settings.interval);
+        std::fprintf(stderr, "preview: %s every %g s\n", join(m_partial_names).c_str(),
+                     *m_settings.interval);
     if (!m_settings.display_server) return;
     const std::string address = m_settings.display_server->describe();
     try {
@@ -75,7 +76,8 @@ void LivePreview::write_files(const Film& film) {
         m_write(m_partial_names, film);
         m_wrote_files = true;
     } catch (const std::runtime_error& e) {
-        std::fprintf(stderr, "pathtracer: warning: preview not written (%s); no more previews\n", e.what());
+        std::fprintf(stderr, "pathtracer: warning: preview not written (%s); no more previews\n",
+                     e.what());
         m_files_failed = true;
     }
 }

@@ -85,14 +85,14 @@ Options:
                          pass); sets checkpoint and interruption granularity, not the image
   --resume FILE          continue the render saved in FILE (same scene and settings);
                          the result is identical to a render run straight through
-  --preview-interval SECONDS   during the render, rewrite each output X.ext as
-                         X.partial.ext (atomically) at most every SECONDS (0 to 1e6; 0: after
-                         every pass; passes are then made about SECONDS/2 long unless
-                         --pass-spp); a finished render removes it. Default: no previews
-  --display-server HOST[:PORT]   show the render in the tev viewer listening there (port
-                         default 14158; IPv6 as [ADDR]:PORT): the image (named after the
-                         output) is sent after every pass, with passes made about 1 s long
-                         unless --pass-spp, or with the previews of --preview-interval
+  --preview-interval SECONDS   while rendering, write each output X.ext as X.partial.ext
+                         (atomically) at most every SECONDS (0 to 1e6; 0: after every
+                         pass), in passes of about SECONDS/2 unless --pass-spp; a finished
+                         render removes them. Default: no previews
+  --display-server HOST[:PORT]   show the render in the tev viewer listening there (default
+                         port 14158; IPv6 as [ADDR]:PORT): the image, named after the
+                         first output, is sent with the previews of --preview-interval, or
+                         else after every pass, in passes of about 1 s unless --pass-spp
   --quiet                no progress bar and no summary
   --list-scenes          list the built-in scenes
   -h, --help             this text
@@ -189,7 +189,8 @@ Options parse_options(const std::vector<std::string>& args) {
             const std::string v = next_value();
             o.display_server = parse_display_server(v);
             if (!o.display_server)
-                throw UsageError(flag + ": expected HOST or HOST:PORT with PORT from 1 to 65535, got '" + v + "'");
+                throw UsageError(flag + ": expected HOST or HOST:PORT with PORT from 1 to 65535, got '" +
+                                 v + "'");
         } else if (flag == "--time-limit") {
             o.time_limit = parse_real(flag, next_value(), 0.001, 1e7,
                                       "a number of seconds from 0.001 to 10000000");
@@ -232,8 +233,8 @@ Options parse_options(const std::vector<std::string>& args) {
     // X.partial.ext is where the unfinished image of X.ext goes: it cannot be an output too.
     for (const std::string& path : o.outputs)
         if (std::find(o.outputs.begin(), o.outputs.end(), partial_output_name(path)) != o.outputs.end())
-            throw UsageError("-o: expected names that are not the unfinished-image names of other outputs, got '" +
-                             path + "' and '" + partial_output_name(path) + "'");
+            throw UsageError("-o: expected names that are not the unfinished-image names of other "
+                             "outputs, got '" + path + "' and '" + partial_output_name(path) + "'");
     return o;
 }
 

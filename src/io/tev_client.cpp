@@ -105,9 +105,9 @@ std::optional<DisplayServerAddress> parse_display_server(const std::string& text
     }
     if (address.host.empty()) return std::nullopt;
     if (!port.empty()) {
-        const auto [ptr, ec] = std::from_chars(port.data(), port.data() + port.size(), address.port);
-        if (ec != std::errc() || ptr != port.data() + port.size() || address.port < 1 || address.port > 65535)
-            return std::nullopt;
+        const char* end = port.data() + port.size();
+        const auto [ptr, ec] = std::from_chars(port.data(), end, address.port);
+        if (ec != std::errc() || ptr != end || address.port < 1 || address.port > 65535) return std::nullopt;
     }
     return address;
 }
@@ -142,7 +142,9 @@ std::string tev_update_image_packet(const std::string& name, const Image& image,
     return finish_packet(std::move(p));
 }
 
-int tev_rows_per_packet(int width) { return std::max(1, kTevMaxFloatsPerPacket / (3 * std::max(1, width))); }
+int tev_rows_per_packet(int width) {
+    return std::max(1, kTevMaxFloatsPerPacket / (3 * std::max(1, width)));
+}
 
 TevClient::TevClient(const DisplayServerAddress& address) : m_address(address.describe()) {
     addrinfo hints{};
@@ -151,7 +153,8 @@ TevClient::TevClient(const DisplayServerAddress& address) : m_address(address.de
     addrinfo* found = nullptr;
     const std::string port = std::to_string(address.port);
     if (const int err = ::getaddrinfo(address.host.c_str(), port.c_str(), &hints, &found); err != 0)
-        throw std::runtime_error("cannot connect to display server " + m_address + ": " + ::gai_strerror(err));
+        throw std::runtime_error("cannot connect to display server " + m_address + ": " +
+                                 ::gai_strerror(err));
     int last_error = ECONNREFUSED;
     for (const addrinfo* ai = found; ai && m_socket < 0; ai = ai->ai_next) {
         m_socket = connect_with_timeout(*ai);
