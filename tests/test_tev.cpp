@@ -273,4 +273,23 @@ TEST_F(DisplayServer, UnreachableServerIsAWarningAndTheRenderGoesOn) {
     EXPECT_TRUE(fs::exists(dir / "out.pfm"));
 }
 
+/// A viewer that goes away during the render (tev closed): no SIGPIPE, a one-line warning,
+/// and the render finishes and writes its image.
+TEST_F(DisplayServer, ViewerClosingDuringTheRenderIsAWarning) {
+    FakeServer server;
+    ASSERT_GT(server.port, 0);
+    const pid_t pid = test::spawn({"--width", "200", "--height", "150", "--spp", "8", "--pass-spp", "1",
+                                   "--quiet", "--display-server", "127.0.0.1:" + std::to_string(server.port),
+                                   "-o", (dir / "out.pfm").string()},
+                                  dir / "log");
+    pollfd pfd{server.fd, POLLIN, 0};
+    ASSERT_EQ(::poll(&pfd, 1, 60000), 1);
+    ::close(::accept(server.fd, nullptr, nullptr));  // the viewer is closed at once
+    EXPECT_EQ(test::wait_exit(pid), 0) << read_file(dir / "log");
+    EXPECT_TRUE(fs::exists(dir / "out.pfm"));
+    const std::string log = read_file(dir / "log");
+    EXPECT_NE(log.find("pathtracer: warning: display server 127.0.0.1:"), std::string::npos) << log;
+    EXPECT_EQ(std::count(log.begin(), log.end(), '\n'), 1) << log;
+}
+
 }  // namespace
