@@ -105,7 +105,7 @@ TEST_F(Checkpoint, SigintWritesPartialNamesAndLeavesTheOutputsUntouched) {
 }
 
 TEST_F(Checkpoint, SigtermWritesPartialNamesAndExitsWith143) {
-    const pid_t pid = spawn_long_render(48, 40, 1000, {"out.png"});
+    const pid_t pid = spawn_long_render(160, 120, 500, {"out.png"});  // passes of 10M paths
     ASSERT_TRUE(wait_for_log(dir / "log", "progress")) << read_file(dir / "log");
     kill(pid, SIGTERM);
     EXPECT_EQ(wait_exit(pid), 143);
