@@ -148,7 +148,8 @@ int run(const spt::Options& opt) {
     int last_whole_samples = info.samples_completed;
     auto last_save = std::chrono::steady_clock::now();
 
-    // Interrupts are caught from here on (before the "preview:" line, which tests wait for).
+    // Interrupts are caught from here on (also while connecting to a display server): the
+    // render then stops at once and its unfinished image is written under the partial names.
     std::signal(SIGINT, on_signal);
     std::signal(SIGTERM, on_signal);
     const spt::PreviewSettings preview_settings{outputs, opt.preview_interval, opt.display_server,
