@@ -3,7 +3,9 @@ set(SPT_CORE_SOURCES
     src/cli/flag_warnings.cpp
     src/cli/image_size.cpp
     src/cli/integrator_choice.cpp
+    src/cli/live_preview.cpp
     src/cli/options.cpp
+    src/cli/output_names.cpp
     src/cli/progress_bar.cpp
     src/cli/render_metadata.cpp
     src/core/text.cpp
@@ -19,6 +21,7 @@ set(SPT_CORE_SOURCES
     src/io/pfm_writer.cpp
     src/io/ply_reader.cpp
     src/io/png_writer.cpp
+    src/io/tev_client.cpp
     src/io/ppm_writer.cpp
     src/io/tone_map.cpp
     src/render/bdpt.cpp

@@ -12,9 +12,11 @@
 #include <vector>
 
 #include "cli/flag_warnings.h"
-#include "cli/integrator_choice.h"
 #include "cli/image_size.h"
+#include "cli/integrator_choice.h"
+#include "cli/live_preview.h"
 #include "cli/options.h"
+#include "cli/output_names.h"
 #include "cli/progress_bar.h"
 #include "cli/render_metadata.h"
 #include "io/atomic_file.h"
@@ -239,12 +241,25 @@ int run(const spt::Options& opt) {
     int last_whole_samples = info.samples_completed;
     auto last_save = std::chrono::steady_clock::now();
 
+    // Interrupts are caught from here on (also while connecting to a display server): the
+    // render then stops at once and its unfinished image is written under the partial names.
+    std::signal(SIGINT, on_signal);
+    std::signal(SIGTERM, on_signal);
+    const spt::PreviewSettings preview_settings{outputs, opt.preview_interval, opt.display_server,
+                                                *spt::color_space_by_name(opt.color_space), opt.quiet};
+    spt::LivePreview preview(
+        preview_settings,
+        // Previews carry no render metadata (the EXR attributes describe a finished render).
+        [&](const std::vector<std::string>& paths, const spt::Film& f) { write_outputs(opt, paths, f, {}); },
+        rs.width, rs.height);
+    rs.pass_seconds = spt::preview_pass_seconds(preview_settings);
+
     spt::ProgressBar bar(!opt.quiet);
     spt::RenderHooks hooks;
     hooks.progress = [&](std::uint64_t d, std::uint64_t t) { bar.update(d, t); };
     hooks.cancel = &g_cancel;
-    if (!opt.checkpoint.empty()) {
-        hooks.pass_completed = [&](int samples) {
+    hooks.pass_completed = [&](int samples) {
+        if (!opt.checkpoint.empty()) {
             last_whole_pass = film.save_state();
             last_whole_samples = info.samples_completed = samples;
             const auto now = std::chrono::steady_clock::now();
@@ -252,15 +267,19 @@ int run(const spt::Options& opt) {
                 spt::save_checkpoint(opt.checkpoint, info, last_whole_pass);
                 last_save = now;
             }
-        };
-    }
-    std::signal(SIGINT, on_signal);
-    std::signal(SIGTERM, on_signal);
+        }
+        preview.pass_completed(film);
+    };
     const spt::RenderStats stats = spt::render(*scene, rs, film, hooks);
     bar.finish();
+    preview.render_ended(film);
 
+    // An unfinished image never replaces an output: it goes beside it, under its partial name.
+    const std::vector<std::string> written =
+        stats.cancelled ? spt::partial_output_names(outputs) : outputs;
     const std::optional<double> auto_stops =
-        write_outputs(opt, outputs, film, spt::render_metadata(opt, rs, stats, film.observer()));
+        write_outputs(opt, written, film, spt::render_metadata(opt, rs, stats, film.observer()));
+    if (!stats.cancelled) preview.remove_preview_files();
     if (!opt.checkpoint.empty()) {
         info.samples_completed = stats.cancelled ? last_whole_samples : stats.samples_completed;
         spt::save_checkpoint(opt.checkpoint, info, stats.cancelled ? last_whole_pass : film.save_state());
@@ -275,15 +294,20 @@ int run(const spt::Options& opt) {
             std::fprintf(stderr, "  stopped by --time-limit %g s after %d of %d spp\n", opt.time_limit,
                          stats.samples_completed, rs.spp);
         if (auto_stops) std::fprintf(stderr, "  auto exposure: %+.1f stops\n", *auto_stops);
-        for (const std::string& path : outputs) std::fprintf(stderr, "  wrote %s\n", path.c_str());
+        if (!stats.cancelled)
+            for (const std::string& path : outputs) std::fprintf(stderr, "  wrote %s\n", path.c_str());
     }
     if (stats.cancelled) {
-        std::fprintf(stderr,
-                     "pathtracer: interrupted by signal %d: wrote the image of %d of %d passes "
-                     "(%d of %d spp, plus the tiles finished since)%s\n",
-                     g_signal.load(), stats.passes_completed, stats.passes_total,
-                     stats.samples_completed, rs.spp,
-                     opt.checkpoint.empty() ? "" : "; the checkpoint holds the whole passes");
+        const auto [fewest, most] = film.sample_count_range();
+        const std::string spp = (fewest == most ? "" : std::to_string(fewest) + " to ") +
+                                std::to_string(most) + " of " + std::to_string(rs.spp) + " spp";
+        std::fprintf(stderr, "pathtracer: interrupted by signal %d: the outputs are left as they were; "
+                     "the unfinished image is beside them:\n", g_signal.load());
+        for (const std::string& path : written)
+            std::fprintf(stderr, "  wrote %s (%s per pixel)\n", path.c_str(), spp.c_str());
+        if (!opt.checkpoint.empty())
+            std::fprintf(stderr, "  the checkpoint %s holds the whole passes: %d spp\n",
+                         opt.checkpoint.c_str(), last_whole_samples);
         return 128 + g_signal.load();
     }
     return 0;

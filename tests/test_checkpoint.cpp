@@ -1,55 +1,27 @@
-// No lost renders: interrupted renders write their image, checkpoints survive kill -9 at any
-// moment (including in the middle of writing one), and a resumed render equals a straight one.
+// No lost renders: an interrupted render writes its unfinished image beside each output
+// (X.partial.ext) and never over it, checkpoints survive kill -9 at any moment (including in
+// the middle of writing one), and a resumed render equals a straight one.
 #include <gtest/gtest.h>
-#include <signal.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <chrono>
 #include <filesystem>
 #include <fstream>
-#include <iterator>
 #include <random>
+#include <regex>
 #include <string>
 #include <thread>
 #include <vector>
 
+#include "program_process.h"
+
 namespace {
 
 namespace fs = std::filesystem;
-
-std::string read_file(const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
-/// Starts the program with stdout/stderr sent to `log`; returns its pid.
-pid_t spawn(const std::vector<std::string>& args, const fs::path& log) {
-    const pid_t pid = fork();
-    if (pid == 0) {
-        FILE* f = std::fopen(log.c_str(), "w");
-        if (f) dup2(fileno(f), STDERR_FILENO), dup2(fileno(f), STDOUT_FILENO);
-        std::vector<char*> argv;
-        std::string program = SPT_PATHTRACER;
-        argv.push_back(program.data());
-        std::vector<std::string> copy = args;
-        for (std::string& a : copy) argv.push_back(a.data());
-        argv.push_back(nullptr);
-        execv(program.c_str(), argv.data());
-        _exit(127);
-    }
-    return pid;
-}
-
-/// Waits for the process; returns its exit code, or 128 + signal when killed.
-int wait_exit(pid_t pid) {
-    int status = 0;
-    waitpid(pid, &status, 0);
-    if (WIFSIGNALED(status)) return 128 + WTERMSIG(status);
-    return WEXITSTATUS(status);
-}
-
-int run(const std::vector<std::string>& args, const fs::path& log) { return wait_exit(spawn(args, log)); }
+using test::read_file;
+using test::run;
+using test::spawn;
+using test::wait_exit;
+using test::wait_for_log;
 
 class Checkpoint : public ::testing::Test {
 protected:
@@ -65,29 +37,95 @@ protected:
         return {"--width", "48", "--height", "40", "--spp", "24", "--pass-spp", "1", "--threads", "2",
                 "--seed", "5", "--quiet", "-o", (dir / out).string()};
     }
+    /// Renders far more samples than a test waits for, in passes of `pass_spp`, to these
+    /// outputs (not quiet: the log shows when the render has started).
+    pid_t spawn_long_render(int width, int height, int pass_spp,
+                            const std::vector<std::string>& outputs,
+                            const std::vector<std::string>& more = {}) const {
+        std::vector<std::string> args = {"--width", std::to_string(width), "--height",
+                                         std::to_string(height), "--spp", "100000", "--pass-spp",
+                                         std::to_string(pass_spp), "--threads", "2"};
+        for (const std::string& out : outputs) args.insert(args.end(), {"-o", (dir / out).string()});
+        args.insert(args.end(), more.begin(), more.end());
+        return spawn(args, dir / "log");
+    }
     fs::path dir;
 };
 
-TEST_F(Checkpoint, SigintWritesTheImageSoFarAndExitsNonZero) {
-    std::vector<std::string> args = base_args("partial.pfm");
-    args[5] = "100000";  // far more samples than the test waits for
-    const pid_t pid = spawn(args, dir / "log");
-    std::this_thread::sleep_for(std::chrono::milliseconds(400));
-    kill(pid, SIGINT);
-    EXPECT_EQ(wait_exit(pid), 130);
-    EXPECT_TRUE(fs::exists(dir / "partial.pfm"));
-    EXPECT_NE(read_file(dir / "log").find("interrupted by signal 2"), std::string::npos)
-        << read_file(dir / "log");
+/// Width and height of a PFM file (0, 0 when it is not one).
+std::pair<int, int> pfm_size(const std::string& bytes) {
+    std::smatch m;
+    if (!std::regex_search(bytes, m, std::regex("^PF\n(\\d+) (\\d+)\n"))) return {0, 0};
+    return {std::stoi(m[1]), std::stoi(m[2])};
 }
 
-TEST_F(Checkpoint, SigtermExitsWith143) {
-    std::vector<std::string> args = base_args("partial.png");
-    args[5] = "100000";
-    const pid_t pid = spawn(args, dir / "log");
-    std::this_thread::sleep_for(std::chrono::milliseconds(400));
+/// The samples per pixel the interrupt message gives for `path`: "wrote PATH (A to B of N
+/// spp per pixel)" or "(B of N spp per pixel)" -> {A, B} (A = B in the second form);
+/// {-1, -1} when the message does not name it.
+std::pair<int, int> reported_spp(const std::string& log, const std::string& path) {
+    const std::string prefix = "  wrote " + path + " (";
+    const auto at = log.find(prefix);
+    if (at == std::string::npos) return {-1, -1};
+    std::smatch m;
+    const std::string rest = log.substr(at + prefix.size());
+    if (std::regex_search(rest, m, std::regex("^(\\d+) to (\\d+) of \\d+ spp per pixel\\)")))
+        return {std::stoi(m[1]), std::stoi(m[2])};
+    if (std::regex_search(rest, m, std::regex("^(\\d+) of \\d+ spp per pixel\\)")))
+        return {std::stoi(m[1]), std::stoi(m[1])};
+    return {-1, -1};
+}
+
+/// SIGINT: every output X.ext gets its unfinished image as X.partial.ext, whether X.ext
+/// existed (left byte for byte as it was) or not (still absent); the message names each
+/// partial file with its samples; exit status 130. (Previews after every pass show when the
+/// first pass has ended; the interrupt then rewrites them with the latest film.)
+TEST_F(Checkpoint, SigintWritesPartialNamesAndLeavesTheOutputsUntouched) {
+    std::ofstream(dir / "keep.pfm", std::ios::binary) << "the image of an earlier render";
+    const pid_t pid =
+        spawn_long_render(48, 40, 1, {"keep.pfm", "new.png"}, {"--preview-interval", "0"});
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+    while (!fs::exists(dir / "new.partial.png") && std::chrono::steady_clock::now() < deadline)
+        std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    kill(pid, SIGINT);
+    EXPECT_EQ(wait_exit(pid), 130);
+    const std::string log = read_file(dir / "log");
+    EXPECT_NE(log.find("interrupted by signal 2"), std::string::npos) << log;
+    EXPECT_EQ(read_file(dir / "keep.pfm"), "the image of an earlier render");
+    EXPECT_FALSE(fs::exists(dir / "new.png"));
+    EXPECT_EQ(pfm_size(read_file(dir / "keep.partial.pfm")), std::make_pair(48, 40));
+    EXPECT_EQ(read_file(dir / "new.partial.png").substr(1, 3), "PNG");
+    for (const char* name : {"keep.partial.pfm", "new.partial.png"}) {
+        const auto [fewest, most] = reported_spp(log, (dir / name).string());
+        EXPECT_GE(fewest, 1) << name << ": the first pass had ended\n" << log;
+        EXPECT_LE(fewest, most) << name << "\n" << log;
+    }
+    std::vector<std::string> left;
+    for (const auto& e : fs::directory_iterator(dir)) left.push_back(e.path().filename().string());
+    EXPECT_EQ(left.size(), 4u) << "keep.pfm, keep.partial.pfm, new.partial.png, log and nothing else";
+}
+
+TEST_F(Checkpoint, SigtermWritesPartialNamesAndExitsWith143) {
+    const pid_t pid = spawn_long_render(160, 120, 500, {"out.png"});  // passes of 10M paths
+    ASSERT_TRUE(wait_for_log(dir / "log", "progress")) << read_file(dir / "log");
     kill(pid, SIGTERM);
     EXPECT_EQ(wait_exit(pid), 143);
-    EXPECT_TRUE(fs::exists(dir / "partial.png"));
+    EXPECT_TRUE(fs::exists(dir / "out.partial.png"));
+    EXPECT_FALSE(fs::exists(dir / "out.png"));
+}
+
+/// An interrupt inside the first pass (tiles of 64 spp; the pass is 640x480x64 paths, many
+/// seconds): the partial image holds the tiles finished, 0 samples elsewhere, and is written
+/// like any other; the output is left as it was.
+TEST_F(Checkpoint, InterruptBeforeTheFirstPassEndsWritesThePartialName) {
+    std::ofstream(dir / "keep.pfm", std::ios::binary) << "old";
+    const pid_t pid = spawn_long_render(640, 480, 64, {"keep.pfm"});
+    ASSERT_TRUE(wait_for_log(dir / "log", "progress")) << read_file(dir / "log");
+    kill(pid, SIGINT);
+    EXPECT_EQ(wait_exit(pid), 130);
+    const std::string log = read_file(dir / "log");
+    EXPECT_EQ(read_file(dir / "keep.pfm"), "old");
+    EXPECT_EQ(pfm_size(read_file(dir / "keep.partial.pfm")), std::make_pair(640, 480));
+    EXPECT_EQ(reported_spp(log, (dir / "keep.partial.pfm").string()), std::make_pair(0, 64)) << log;
 }
 
 TEST_F(Checkpoint, InterruptedAndResumedEqualsStraightRun) {

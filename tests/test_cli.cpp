@@ -215,6 +215,14 @@ TEST_F(Cli, BadArgumentsExitTwoWithOneLineNamingTheFlag) {
         {{"--time-limit", "0"}, {"--time-limit"}},
         {{"--time-limit", "-5"}, {"--time-limit"}},
         {{"--time-limit", "soon"}, {"--time-limit", "soon"}},
+        {{"--preview-interval", "-1"}, {"--preview-interval", "-1"}},
+        {{"--preview-interval", "often"}, {"--preview-interval", "often"}},
+        {{"--preview-interval"}, {"--preview-interval"}},
+        {{"--display-server", "host:0"}, {"--display-server", "host:0"}},
+        {{"--display-server", "host:65536"}, {"--display-server", "host:65536"}},
+        {{"--display-server", ":14158"}, {"--display-server", ":14158"}},
+        {{"--display-server", ""}, {"--display-server"}},
+        {{"-o", "img.partial.png"}, {"-o", "img.partial.png"}},  // where img.png's unfinished image goes
         {{"--spp"}, {"--spp"}},  // missing value at the end
         {{"-o"}, {"-o"}},
         {{"--spectral-bins"}, {"--spectral-bins"}},

@@ -95,6 +95,31 @@ TEST(Determinism, TileAndPassSizesDoNotChangeTheFilm) {
     }
 }
 
+/// Timed passes (RenderSettings::pass_seconds, for live previews) start with one sample, are
+/// sized from the measured pace within [1, effective_pass_spp], and leave the film unchanged.
+TEST(Determinism, TimedPassesDoNotChangeTheFilm) {
+    RenderSettings rs = base_settings();
+    rs.threads = 2;
+    rs.spp = 40;
+    const auto reference = test::render_film(cornell(), rs);
+    rs.pass_seconds = 1e-3;  // about a millisecond: passes of a few samples
+    std::vector<int> ends;
+    RenderHooks hooks;
+    hooks.pass_completed = [&](int samples) { ends.push_back(samples); };
+    Film film(rs.width, rs.height);
+    const RenderStats stats = render(cornell(), rs, film, hooks);
+    EXPECT_EQ(count_differences(*reference, film), 0u);
+    ASSERT_GE(ends.size(), 2u);
+    EXPECT_EQ(ends.front(), 1) << "the first timed pass has one sample";
+    EXPECT_EQ(ends.back(), rs.spp);
+    for (std::size_t i = 1; i < ends.size(); ++i) {
+        EXPECT_GE(ends[i] - ends[i - 1], 1);
+        EXPECT_LE(ends[i] - ends[i - 1], effective_pass_spp(rs));
+    }
+    EXPECT_EQ(stats.passes_completed, static_cast<int>(ends.size()));
+    EXPECT_EQ(stats.passes_total, stats.passes_completed);
+}
+
 /// render() and render_pixel() driven by hand agree: the pixel is the unit of determinism.
 TEST(Determinism, RenderPixelMatchesRender) {
     const RenderSettings rs = base_settings();

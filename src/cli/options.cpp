@@ -1,11 +1,13 @@
 // Flag parsing: every value is checked, and errors name the flag and what it accepts.
 #include "cli/options.h"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <limits>
 
 #include "core/text.h"
+#include "cli/output_names.h"
 #include "io/image_writer.h"
 #include "spectral/color_space.h"
 
@@ -63,7 +65,7 @@ const std::vector<std::string>& known_flags() {
         "--help", "--version", "--list-scenes", "--rgb-to-spectrum", "--quiet", "--spp", "--width",
         "--height", "--scale", "--output", "--exposure", "--auto-exposure", "--tonemap", "--white-balance",
         "--print-adaptation", "--color-resolution", "--color-space", "--spectral-bins", "--spectral-bands",
-        "--spectral-range", "--sensor", "--threads", "--seed",
+        "--spectral-range", "--sensor", "--preview-interval", "--display-server", "--threads", "--seed",
         "--checkpoint", "--resume", "--checkpoint-interval", "--time-limit", "--wavelengths-per-path",
         "--integrator", "--light-sampling", "--merge-radius", "--no-dispersion", "--pass-spp", "--max-depth"};
     return flags;
@@ -115,8 +117,9 @@ Options:
                          analytic spectra at each wavelength (default 16)
   --threads T            worker threads (1 to 1024; default: all cores)
   --seed S               random seed (0 to 2^64-1; default 0); same seed, same image
-                         On SIGINT/SIGTERM the image of the passes done so far is written
-                         and the program exits with status 130/143.
+                         On SIGINT/SIGTERM the unfinished image is written beside each
+                         output X.ext as X.partial.ext (X.ext is left as it was) and the
+                         program exits with status 130/143.
   --wavelengths-per-path K   4 (default: hero wavelength set) or 1 (hero alone)
   --no-dispersion        give dispersive glass its mean index over 380-780 nm (to measure
                          what dispersion costs)
@@ -143,6 +146,14 @@ Options:
                          pass); sets checkpoint and interruption granularity, not the image
   --resume FILE          continue the render saved in FILE (same scene and settings);
                          the result is identical to a render run straight through
+  --preview-interval SECONDS   while rendering, write each output X.ext as X.partial.ext
+                         (atomically) at most every SECONDS (0 to 1e6; 0: after every
+                         pass), in passes of about SECONDS/2 unless --pass-spp; a finished
+                         render removes them. Default: no previews
+  --display-server HOST[:PORT]   show the render in the tev viewer listening there (default
+                         port 14158; IPv6 as [ADDR]:PORT): the image, named after the
+                         first output, is sent with the previews of --preview-interval, or
+                         else after every pass, in passes of about 1 s unless --pass-spp
   --quiet                no progress bar and no summary
   --list-scenes          list the built-in scenes
   -h, --help             this text
@@ -268,6 +279,15 @@ Options parse_options(const std::vector<std::string>& args) {
         } else if (flag == "--checkpoint-interval") {
             o.checkpoint_interval =
                 parse_real(flag, next_value(), 0, 1e6, "a number of seconds from 0 to 1000000");
+        } else if (flag == "--preview-interval") {
+            o.preview_interval =
+                parse_real(flag, next_value(), 0, 1e6, "a number of seconds from 0 to 1000000");
+        } else if (flag == "--display-server") {
+            const std::string v = next_value();
+            o.display_server = parse_display_server(v);
+            if (!o.display_server)
+                throw UsageError(flag + ": expected HOST or HOST:PORT with PORT from 1 to 65535, got '" +
+                                 v + "'");
         } else if (flag == "--time-limit") {
             o.time_limit = parse_real(flag, next_value(), 0.001, 1e7,
                                       "a number of seconds from 0.001 to 10000000");
@@ -314,6 +334,11 @@ Options parse_options(const std::vector<std::string>& args) {
     if (o.scale && (o.width || o.height))
         throw UsageError("--scale: cannot be combined with --width or --height");
     check_spectral_output(o, spectral_range_given);
+    // X.partial.ext is where the unfinished image of X.ext goes: it cannot be an output too.
+    for (const std::string& path : o.outputs)
+        if (std::find(o.outputs.begin(), o.outputs.end(), partial_output_name(path)) != o.outputs.end())
+            throw UsageError("-o: expected names that are not the unfinished-image names of other "
+                             "outputs, got '" + path + "' and '" + partial_output_name(path) + "'");
     return o;
 }
 

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "io/tone_map.h"
+#include "io/tev_client.h"
 #include "render/integrator.h"
 #include "spectral/chromatic_adaptation.h"
 #include "spectral/spectral_bands.h"
@@ -49,6 +50,10 @@ struct Options {
     double time_limit = 0;  ///< seconds (0: none): no pass is started that would end later
     double checkpoint_interval = 300;  ///< seconds between checkpoints (after a whole pass)
     std::string resume;                ///< continue the render saved in this checkpoint
+    /// Seconds between preview files (the outputs' partial names, rewritten during the
+    /// render); unset: none. 0: after every pass.
+    std::optional<double> preview_interval;
+    std::optional<DisplayServerAddress> display_server;  ///< a tev viewer to show the render in
     bool quiet = false;
     /// Every flag given, by its long name ("--spp"), for warnings about flags without effect.
     std::set<std::string> given;

@@ -1,5 +1,6 @@
 #include "render/film.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <stdexcept>
@@ -122,6 +123,11 @@ std::vector<float> Film::develop_bands() const {
 
 Image Film::develop_raw() const {
     return develop(*color_space_by_name("xyz"));  // the identity matrix
+}
+
+std::pair<std::uint32_t, std::uint32_t> Film::sample_count_range() const {
+    const auto [fewest, most] = std::minmax_element(m_count.begin(), m_count.end());
+    return {*fewest, *most};
 }
 
 Image Film::develop(const ColorSpace& space) const {

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "io/image.h"
@@ -82,6 +83,8 @@ public:
     int width() const { return m_width; }
     int height() const { return m_height; }
     std::uint32_t sample_count(int x, int y) const { return m_count[index(x, y)]; }
+    /// Fewest and most samples of any pixel (they differ in a render stopped inside a pass).
+    std::pair<std::uint32_t, std::uint32_t> sample_count_range() const;
     /// Mean XYZ of a pixel (zero when it has no samples).
     Xyz pixel_xyz(int x, int y) const;
     /// Standard error of the pixel's mean Y (from the per-sample second moment).

@@ -252,15 +252,20 @@ RenderStats render(const Scene& scene, const RenderSettings& settings, Film& fil
     const int threads = settings.threads > 0
                             ? settings.threads
                             : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-    const int pass_spp = effective_pass_spp(settings);
+    const bool vcm = settings.integrator.kind == IntegratorKind::vcm;
+    const int max_pass_spp = effective_pass_spp(settings);
+    // Timed passes start with one sample, then follow the measured pace (a pixel's samples
+    // are added in sample order whatever the passes, so the image does not change).
+    const bool timed_passes = settings.pass_seconds > 0 && settings.pass_spp == 0 && !vcm;
+    int pass_spp = timed_passes ? 1 : max_pass_spp;
     RenderStats stats;
     const int first_sample = std::clamp(settings.first_sample, 0, settings.spp);
-    stats.passes_total = (settings.spp - first_sample + pass_spp - 1) / pass_spp;
+    auto passes_left = [&](int first) { return (settings.spp - first + pass_spp - 1) / pass_spp; };
+    stats.passes_total = passes_left(first_sample);
     stats.samples_completed = first_sample;
     const std::uint64_t total_paths =
         std::uint64_t(settings.width) * settings.height * (settings.spp - first_sample);
 
-    const bool vcm = settings.integrator.kind == IntegratorKind::vcm;
     const bool bdpt = settings.integrator.kind == IntegratorKind::bdpt;
     std::optional<LightSampler> lights;
     std::optional<BdptContext> bidir;  // what both bidirectional integrators share
@@ -316,17 +321,17 @@ RenderStats render(const Scene& scene, const RenderSettings& settings, Film& fil
 
     // Producer: one pass at a time, so a pixel never gets samples out of order.
     const int ts = settings.tile_size;
-    double last_pass_seconds = 0;
-    for (int first = first_sample; first < settings.spp && !cancelled(); first += pass_spp) {
+    double seconds_per_spp = 0;  // pace of the last pass
+    for (int first = first_sample; first < settings.spp && !cancelled();) {
         const auto pass_start = std::chrono::steady_clock::now();
+        const int end = std::min(settings.spp, first + pass_spp);
         if (settings.time_limit > 0 && first > first_sample) {
             const double elapsed = std::chrono::duration<double>(pass_start - start).count();
-            if (elapsed + last_pass_seconds > settings.time_limit) {
+            if (elapsed + seconds_per_spp * (end - first) > settings.time_limit) {
                 stats.time_limited = true;
                 break;
             }
         }
-        const int end = std::min(settings.spp, first + pass_spp);
         if (vcm) {
             // Light phase: every light subpath of the pass, then the grid of their photons.
             const int tasks = vcm_passes->begin_pass(first);
@@ -352,14 +357,22 @@ RenderStats render(const Scene& scene, const RenderSettings& settings, Film& fil
         ++stats.passes_completed;
         stats.samples_completed = end;
         if (hooks.pass_completed) hooks.pass_completed(end);
-        last_pass_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - pass_start).count();
+        const double pass_seconds =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - pass_start).count();
+        seconds_per_spp = pass_seconds / (end - first);
+        first = end;
+        if (timed_passes) {
+            const double fit = settings.pass_seconds / std::max(seconds_per_spp, 1e-9);
+            pass_spp = static_cast<int>(std::clamp(fit, 1.0, double(max_pass_spp)));
+            stats.passes_total = stats.passes_completed + passes_left(first);
+        }
     }
     queue.close();
     for (std::thread& w : workers) w.join();
 
     stats.paths = latch.paths();
     stats.rays = rays.load();
-    stats.cancelled = cancelled() && stats.passes_completed < stats.passes_total;
+    stats.cancelled = cancelled() && stats.samples_completed < settings.spp;
     stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (progress) progress(stats.paths, total_paths);
     return stats;

@@ -20,6 +20,11 @@ struct RenderSettings {
     int threads = 0;            ///< 0: all hardware threads
     int tile_size = 32;
     int pass_spp = 0;           ///< samples per pass; 0: chosen automatically
+    /// With automatic passes (pass_spp 0), > 0: each pass is sized, at the pace of the one
+    /// before, to take about this long (the first has 1 spp; at most effective_pass_spp), so
+    /// that live previews, which are written between passes, come on time. No effect on vcm
+    /// (one sample per pass) or on the image.
+    double pass_seconds = 0;
     int first_sample = 0;       ///< samples per pixel already in the film (resuming)
     /// Seconds (0: no limit): a pass is not started if, at the pace of the previous one, it
     /// would end after this. The first pass always runs, so the image has samples.
@@ -30,7 +35,7 @@ struct RenderSettings {
     std::optional<WideWavelengthSampling> wide_wavelengths;
 };
 
-/// Samples per pass actually used for these settings.
+/// Samples per pass actually used for these settings (the most, with pass_seconds).
 int effective_pass_spp(const RenderSettings& settings);
 
 struct RenderStats {
@@ -38,7 +43,8 @@ struct RenderStats {
     std::uint64_t paths = 0;
     std::uint64_t rays = 0;
     int passes_completed = 0;   ///< passes finished in this run
-    int passes_total = 0;       ///< passes this run set out to render
+    int passes_total = 0;       ///< passes this run set out to render (pass_seconds: the
+                                ///< passes done plus the rest at the last pass size)
     int samples_completed = 0;  ///< samples per pixel in the film after the last whole pass
     bool cancelled = false;
     bool time_limited = false;  ///< stopped before spp by RenderSettings::time_limit
