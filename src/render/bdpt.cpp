@@ -196,7 +196,7 @@ float Bdpt::pdf(const Vertex& v, const Vertex* prev, const Vertex& next) const {
     const Vec3 wn = direction(v, next);
     if (v.type == VertexType::camera) {
         float x, y;
-        if (!m_ctx.camera.raster_position(wn, x, y)) return 0.f;
+        if (!m_ctx.camera.raster_position(v.p(), wn, x, y)) return 0.f;
         return convert_density(m_ctx.camera.direction_pdf(dot(wn, m_ctx.camera.forward())), v, next);
     }
     const Vec3 wp = direction(v, *prev);
@@ -374,7 +374,7 @@ void Bdpt::trace_camera(const Ray* camera_ray) {
     m_camera.clear();
     Vertex v;
     v.type = VertexType::camera;
-    v.hit.p = m_ctx.camera.origin();
+    v.hit.p = camera_ray ? camera_ray->o : m_ctx.camera.origin();  // the lens point of a thin lens
     v.beta = SampledSpectrum(1.f);
     m_camera.push_back(v);
     if (!camera_ray) return;
@@ -384,18 +384,26 @@ void Bdpt::trace_camera(const Ray* camera_ray) {
 }
 
 void Bdpt::splat_light_tracing(std::vector<Splat>& splats) {
-    const Vertex& pt = m_camera[0];
+    Vertex& pt = m_camera[0];
+    const Vec3 camera_p = pt.p();  // restored at the end: a thin lens moves pt per splat
+    const bool lens = m_ctx.camera.thin_lens();
     const int n_light = static_cast<int>(m_light.size());
     for (int s = 2; s <= n_light && s - 1 <= max_depth(); ++s) {
         const Vertex& qs = m_light[s - 1];
         if (!connectible(qs)) continue;  // a sampled specular lobe does not matter here
-        // Light vertex seen by the pinhole: a splat on the pixel it projects to.
+        // A thin lens: a lens point of its own per splat, uniform as the camera rays' (so
+        // that its density cancels in the MIS ratios, as in pbrt-v3's Sample_Wi).
+        if (lens) {
+            const float u1 = m_rng.uniform();
+            pt.hit.p = m_ctx.camera.lens_point(u1, m_rng.uniform());
+        }
+        // Light vertex seen by the pinhole (the lens point): a splat on the pixel it projects to.
         const Vec3 to_camera = pt.p() - qs.p();
         const float dist2 = length_squared(to_camera);
         if (!(dist2 > 0.f)) continue;
         const Vec3 w_cam = to_camera / std::sqrt(dist2);  // from qs to the camera
         float px, py;
-        if (!m_ctx.camera.raster_position(-w_cam, px, py)) continue;
+        if (!m_ctx.camera.raster_position(pt.p(), -w_cam, px, py)) continue;
         const float cos_cam = dot(-w_cam, m_ctx.camera.forward());
         SampledSpectrum c = qs.beta * (m_ctx.camera.importance(cos_cam) * cos_cam / dist2);
         if (qs.type == VertexType::surface) c *= f_cos(qs, w_cam, m_lambda) * shading_correction(qs.hit, qs.wo, w_cam);
@@ -408,6 +416,7 @@ void Bdpt::splat_light_tracing(std::vector<Splat>& splats) {
         const auto pixel = static_cast<std::uint32_t>(static_cast<int>(py) * m_ctx.width + static_cast<int>(px));
         splats.push_back({pixel, static_cast<float>(xyz.x), static_cast<float>(xyz.y), static_cast<float>(xyz.z)});
     }
+    pt.hit.p = camera_p;
 }
 
 void Bdpt::accumulate(const SampledSpectrum& c, bool terminated) {

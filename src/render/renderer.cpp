@@ -72,20 +72,24 @@ private:
 };
 
 /// The start of every path sample, shared by both integrators so they draw identical numbers:
-/// Rng(seed, pixel, sample), then the wavelengths, then the jitter inside the pixel.
+/// Rng(seed, pixel, sample), then the wavelengths, then the jitter inside the pixel, then
+/// (thin lens only) the lens point.
 /// The camera ray is left to the caller (ray() as the integrator's argument): built in place
 /// there, it is not copied through memory in pieces, which stalls the first intersection.
 struct PixelSample {
     Rng rng;
     SampledWavelengths lambda;
-    float px, py;  ///< film position of the sample
-    Ray ray(const Camera& camera) const { return camera.generate_ray(px, py); }
+    float px, py;            ///< film position of the sample
+    float lens_u = 0.f, lens_v = 0.f;  ///< thin lens: the lens point's uniform numbers
+    Ray ray(const Camera& camera) const {
+        return camera.thin_lens() ? camera.generate_ray(px, py, lens_u, lens_v) : camera.generate_ray(px, py);
+    }
 };
 inline RngStream pixel_stream(const RenderSettings& settings, int x, int y) {
     return RngStream(settings.seed, std::uint64_t(y) * settings.width + x);
 }
 inline PixelSample start_pixel_sample(const RngStream& stream, int x, int y, int s,
-                                      const RenderSettings& settings) {
+                                      const RenderSettings& settings, const Camera& camera) {
     Rng rng(stream, static_cast<std::uint64_t>(s));
     const float u = rng.uniform();
     SampledWavelengths lambda = settings.wide_wavelengths ? settings.wide_wavelengths->sample(u)
@@ -93,7 +97,9 @@ inline PixelSample start_pixel_sample(const RngStream& stream, int x, int y, int
     if (settings.integrator.wavelengths_per_path == 1) lambda.terminate_secondary();
     const float px = static_cast<float>(x) + rng.uniform();
     const float py = static_cast<float>(y) + rng.uniform();
-    return {rng, lambda, px, py};
+    if (!camera.thin_lens()) return {rng, lambda, px, py};
+    const float lens_u = rng.uniform();
+    return {rng, lambda, px, py, lens_u, rng.uniform()};
 }
 
 /// render_pixel for bidirectional path tracing: the same samples (Rng, wavelengths, jitter),
@@ -103,7 +109,7 @@ void render_pixel_bdpt(const BdptContext& ctx, const RenderSettings& settings, i
                        std::vector<Splat>& splats) {
     const RngStream stream = pixel_stream(settings, x, y);
     for (int s = first_sample; s < end_sample; ++s) {
-        PixelSample ps = start_pixel_sample(stream, x, y, s, settings);
+        PixelSample ps = start_pixel_sample(stream, x, y, s, settings, ctx.camera);
         const SampledSpectrum L = trace_bdpt(ctx, ps.ray(ctx.camera), ps.lambda, ps.rng, stats, splats);
         film.add_sample(x, y, L, ps.lambda);
     }
@@ -169,7 +175,7 @@ public:
         for (int y = task.y0; y < task.y1; ++y)
             for (int x = task.x0; x < task.x1; ++x) {
                 const int s = task.first_sample;
-                PixelSample ps = start_pixel_sample(pixel_stream(m_settings, x, y), x, y, s, m_settings);
+                PixelSample ps = start_pixel_sample(pixel_stream(m_settings, x, y), x, y, s, m_settings, m_ctx.camera);
                 const auto light_path = static_cast<std::uint32_t>(y * m_settings.width + x);
                 const SampledSpectrum L =
                     trace_camera_subpath(m_ctx, mc, light_path, ps.ray(m_ctx.camera), m_lambda, ps.rng, stats);
@@ -237,7 +243,7 @@ void render_pixel(const Scene& scene, const RenderSettings& settings, const Came
                   int y, int first_sample, int end_sample, Film& film, PathStats& stats) {
     const RngStream stream = pixel_stream(settings, x, y);
     for (int s = first_sample; s < end_sample; ++s) {
-        PixelSample ps = start_pixel_sample(stream, x, y, s, settings);
+        PixelSample ps = start_pixel_sample(stream, x, y, s, settings, camera);
         const SampledSpectrum L = trace_path(scene, settings.integrator, ps.ray(camera), ps.lambda, ps.rng, stats);
         film.add_sample(x, y, L, ps.lambda);
     }

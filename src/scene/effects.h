@@ -13,6 +13,7 @@ struct Effects {
     bool transmission = false;       ///< Fresnel dielectrics
     bool dispersion = false;         ///< wavelength-dependent index: hero set splits
     bool shading_normals = false;    ///< meshes with vertex normals: smooth shading
+    bool depth_of_field = false;     ///< thin-lens camera: rays start on the aperture
 
     std::string describe() const;
 };

@@ -260,6 +260,7 @@ void Scene::finalize() {
     effects = Effects{};
     effects.point_lights = !point_light_indices.empty();
     effects.background = environment_index >= 0;
+    effects.depth_of_field = camera.aperture.radius > 0.f;
     for (const Light& l : lights)
         effects.emissive_surfaces |=
             !std::holds_alternative<PointLight>(l) && !std::holds_alternative<EnvironmentLight>(l);

@@ -74,7 +74,8 @@ private:
 
     void camera(const JsonValue& v) {
         object(v, "camera");
-        check_keys(v, "camera", {"position", "look_at", "up", "vfov_degrees"});
+        check_keys(v, "camera", {"position", "look_at", "up", "vfov_degrees", "aperture_radius", "f_number",
+                                 "focal_length", "focus_distance", "focus_point", "blades", "rotation_degrees"});
         CameraSpec& c = m_scene.camera;
         c.position = point(required(v, "position", "camera"), "camera position");
         c.look_at = point(required(v, "look_at", "camera"), "camera look_at");
@@ -85,6 +86,47 @@ private:
         if (!(length(forward) > 0.f)) fail(v.pos(), "camera look_at equals its position; expected a point to look at");
         if (!(length(cross(normalize(forward), normalize(c.up))) > 1e-6f))
             fail(v.pos(), "camera up is parallel to the viewing direction; expected a different up vector");
+        thin_lens(v);
+    }
+
+    /// The camera's aperture and focus (depth of field); none of the keys: the pinhole.
+    void thin_lens(const JsonValue& v) {
+        CameraSpec& c = m_scene.camera;
+        const JsonValue* radius = v.find("aperture_radius");
+        const JsonValue* f_number = v.find("f_number");
+        const JsonValue* focal_length = v.find("focal_length");
+        if (radius && f_number) fail(f_number->pos(), "camera has both aperture_radius and f_number; expected one of them");
+        if (f_number && !focal_length)
+            fail(f_number->pos(), "camera f_number needs \"focal_length\" (scene units); expected both");
+        if (focal_length && !f_number)
+            fail(focal_length->pos(), "camera focal_length only goes with f_number; expected \"f_number\" too");
+        if (radius) c.aperture.radius = static_cast<float>(number_in(*radius, "camera aperture_radius", 0, 1e6));
+        if (f_number) {
+            const double n = number_in(*f_number, "camera f_number", 0, 1e6, true);
+            const double f = number_in(*focal_length, "camera focal_length", 0, 1e6, true);
+            c.aperture.radius = static_cast<float>(f / (2 * n));  // N = focal length / diameter
+        }
+        const JsonValue* distance = v.find("focus_distance");
+        const JsonValue* point_key = v.find("focus_point");
+        const JsonValue* blades = v.find("blades");
+        const JsonValue* rotation = v.find("rotation_degrees");
+        if (!radius && !f_number) {
+            for (const JsonValue* key : {distance, point_key, blades, rotation})
+                if (key) fail(key->pos(), "camera focus and blades need an aperture; expected \"aperture_radius\" or \"f_number\"");
+            return;
+        }
+        if (distance && point_key) fail(point_key->pos(), "camera has both focus_distance and focus_point; expected one of them");
+        const Vec3 forward = normalize(c.look_at - c.position);
+        c.focus_distance = length(c.look_at - c.position);  // default: focused on look_at
+        if (distance) c.focus_distance = static_cast<float>(number_in(*distance, "camera focus_distance", 0, 1e9, true));
+        if (point_key) {
+            c.focus_distance = dot(point(*point_key, "camera focus_point") - c.position, forward);
+            if (!(c.focus_distance > 0.f))
+                fail(point_key->pos(), "camera focus_point is not in front of the camera; expected a point ahead of it");
+        }
+        if (rotation && !blades) fail(rotation->pos(), "camera rotation_degrees turns the blades; expected \"blades\" too");
+        if (blades) c.aperture.blades = integer_in(*blades, "camera blades", 3, 64);
+        if (rotation) c.aperture.rotation_degrees = static_cast<float>(number_in(*rotation, "camera rotation_degrees", -360, 360));
     }
 
     void image_settings(const JsonValue& v) {
