@@ -10,6 +10,11 @@
 namespace spt {
 
 struct CameraSpec {
+    CameraSpec() = default;
+    /// A pinhole (the lens is set by its fields).
+    CameraSpec(const Vec3& position_, const Vec3& look_at_, const Vec3& up_, float vfov_degrees_)
+        : position(position_), look_at(look_at_), up(up_), vfov_degrees(vfov_degrees_) {}
+
     Vec3 position{0, 0, 3.5f};
     Vec3 look_at{0, 0, 0};
     Vec3 up{0, 1, 0};
