@@ -284,5 +284,21 @@ TEST(DepthOfField, SceneKeys) {
     for (const auto& e : errors) EXPECT_NE(error_of(camera(e.keys)).find(e.message), std::string::npos) << error_of(camera(e.keys));
 }
 
+/// Scenes built in code are checked too: a lens needs a positive focus distance and a
+/// non-negative radius, blades 0 or 3 to 64.
+TEST(DepthOfField, SceneChecksTheLens) {
+    auto finalized = [](float radius, float focus, int blades) {
+        Scene scene;
+        scene.camera.aperture = {radius, blades, 0.f};
+        scene.camera.focus_distance = focus;
+        scene.finalize();
+    };
+    EXPECT_NO_THROW(finalized(0.1f, 2.f, 6));
+    EXPECT_NO_THROW(finalized(0.f, 0.f, 0));  // the pinhole has no focus
+    EXPECT_THROW(finalized(-0.1f, 2.f, 0), SceneError);
+    EXPECT_THROW(finalized(0.1f, 0.f, 0), SceneError);
+    EXPECT_THROW(finalized(0.1f, 2.f, 2), SceneError);
+}
+
 }  // namespace
 }  // namespace spt

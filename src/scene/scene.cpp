@@ -224,6 +224,12 @@ void Scene::finalize() {
             "camera up vector must not be parallel to the viewing direction");
     require(camera.vfov_degrees > 0.f && camera.vfov_degrees < 180.f,
             "camera field of view must be in (0, 180) degrees");
+    const Aperture& aperture = camera.aperture;
+    require(std::isfinite(aperture.radius) && aperture.radius >= 0.f, "camera aperture radius must be finite and >= 0");
+    require(aperture.radius == 0.f || (std::isfinite(camera.focus_distance) && camera.focus_distance > 0.f),
+            "camera focus distance must be finite and > 0");
+    require(aperture.blades == 0 || (aperture.blades >= 3 && aperture.blades <= 64),
+            "camera aperture blades must be 0 (a disc) or 3 to 64");
 
     // Split planes for intersection: axis-aligned ones take the fast path.
     m_axis_planes.clear();
@@ -292,7 +298,9 @@ void Scene::finalize_lights() {
     for (const Cone& c : cones) box.expand(bounds(c));
     for (const Light& l : lights)
         if (const PointLight* p = std::get_if<PointLight>(&l)) box.expand(p->position);
-    box.expand(camera.position);
+    const Vec3 lens(camera.aperture.radius, camera.aperture.radius, camera.aperture.radius);
+    box.expand(camera.position - lens);  // the whole lens (the pinhole's point when 0)
+    box.expand(camera.position + lens);
     bounds_center = box.centroid();
     bounds_radius = 0.5f * length(box.hi - box.lo);
     if (!(bounds_radius > 0.f)) bounds_radius = 1.f;  // a lone camera: any radius is correct
