@@ -208,13 +208,15 @@ Options parse_options(const std::vector<std::string>& args) {
             const std::optional<Chromaticity> white = parse_white(v);
             if (!white)
                 throw UsageError(flag + ": expected A, D50, D55, D65, D75, E, F2, F11 or a "
-                                        "temperature from 1000K to 25000K, got '" + v + "'");
+                                        "temperature from 1000K to 25000K, got '" + v + "'." +
+                                 suggestion(v, {"A", "D50", "D55", "D65", "D75", "E", "F2", "F11"}));
             (flag == "--white-balance" ? o.white_balance : o.print_adaptation) = white;
         } else if (flag == "--tonemap") {
             const std::string v = next_value();
-            const std::optional<ToneMap> map = tone_map_from_name(v);
+            const std::optional<ToneMap> map = tone_map_from_name(lowercase(v));
             if (!map)
-                throw UsageError(flag + ": expected neutral, pbr-neutral or clip, got '" + v + "'");
+                throw UsageError(flag + ": expected neutral, pbr-neutral or clip, got '" + v + "'." +
+                                 suggestion(v, {"neutral", "pbr-neutral", "clip"}));
             o.tone_map = *map;
         } else if (flag == "--auto-exposure") {
             o.auto_exposure = true;
