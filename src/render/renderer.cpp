@@ -232,7 +232,7 @@ int pass_size(const RenderSettings& s, int pass_spp) {
     // About four million paths per pass: frequent enough for progress and interruption,
     // long enough that waiting for the last tile of a pass costs little.
     const double pixels = double(s.width) * s.height;
-    const int pass = static_cast<int>(std::max(1.0, 4.0e6 / pixels));
+    const int pass = static_cast<int>(std::max(1.0, s.paths_per_pass / pixels));
     return std::min(pass, s.spp);
 }
 

@@ -25,6 +25,9 @@ struct RenderSettings {
     /// that live previews, which are written between passes, come on time. No effect on vcm
     /// (one sample per pass) or on the image.
     double pass_seconds = 0;
+    /// Paths per automatic pass (the program's 4 million; tests lower it to cut small
+    /// renders into many passes). Sets the chunks, so it changes the image's last bits.
+    double paths_per_pass = 4.0e6;
     int first_sample = 0;       ///< samples per pixel already in the film (resuming)
     /// > 0: stop after this many samples per pixel instead of spp (a partial film rendering
     /// samples [first_sample, end_sample) of the spp-sample render; a chunk end, see below).
