@@ -90,21 +90,26 @@ TEST(PartialFilms, FloatingPointSumsOfPartsDependOnTheGrouping) {
 }
 
 TEST(PartialFilms, ExactSumIsIntegerArithmetic) {
-    ExactSum s;
-    s.add(0.1);
-    s.add(1e-3);
-    ExactSum t;
-    t.add(1e-3);
-    t.add(0.1);
-    EXPECT_EQ(s, t);
+    ExactSum s, t;
+    for (const double v : {0.1, 1e-3, 7e20, 3.25}) s.add(v);
+    for (const double v : {3.25, 7e20, 1e-3, 0.1}) t.add(v);
+    EXPECT_EQ(s, t);  // any order, the same bits
+    ExactSum carry;
+    carry.add(0.75);
+    carry.add(0.5);  // the fraction carries into the integer bits
+    EXPECT_EQ(carry.whole, 1u);
+    EXPECT_EQ(carry.fraction, 1ull << 62);
+    EXPECT_EQ(carry.value(), 1.25);
+    carry.add(0x1p64 - 2048.0);
+    carry.add(2048.0);  // the integer bits carry into the high bits
+    EXPECT_EQ(carry.high, 1u);
+    EXPECT_EQ(carry.whole, 1u);
+    EXPECT_EQ(carry.value(), 0x1p64 + 1.25);
     ExactSum big;
-    big.add(3.0);
-    big.add(0.5);
-    EXPECT_EQ(big.whole, 3u);
-    EXPECT_EQ(big.fraction, 1ull << 63);
-    EXPECT_EQ(big.value(), 3.5);
-    big.add(1e30);  // beyond 2^64: saturates rather than wrapping around
-    EXPECT_EQ(big.whole, ~0ull);
+    big.add(0x1p127);
+    big.add(0x1p127);  // 2^128: saturates rather than wrapping around to 0
+    EXPECT_EQ(big.high, ~0ull);
+    EXPECT_GT(big.value(), 3e38);
 }
 
 // ---- The program: --passes A:B -o part.film and 'pathtracer merge' ----
