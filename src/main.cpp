@@ -317,6 +317,11 @@ int run(const spt::Options& opt) {
         if (!stats.cancelled)
             for (const std::string& path : outputs) std::fprintf(stderr, "  wrote %s\n", path.c_str());
     }
+    if (stats.cancelled && partial_film) {
+        std::fprintf(stderr, "pathtracer: interrupted by signal %d: no partial film written (a part is "
+                     "whole passes; render it again)\n", g_signal.load());
+        return 128 + g_signal.load();
+    }
     if (stats.cancelled) {
         const auto [fewest, most] = film.sample_count_range();
         const std::string spp = (fewest == most ? "" : std::to_string(fewest) + " to ") +
@@ -324,7 +329,7 @@ int run(const spt::Options& opt) {
         std::fprintf(stderr, "pathtracer: interrupted by signal %d: the outputs are left as they were; "
                      "the unfinished image is beside them:\n", g_signal.load());
         for (const std::string& path : written)
-            if (!partial_film) std::fprintf(stderr, "  wrote %s (%s per pixel)\n", path.c_str(), spp.c_str());
+            std::fprintf(stderr, "  wrote %s (%s per pixel)\n", path.c_str(), spp.c_str());
         if (!opt.checkpoint.empty())
             std::fprintf(stderr, "  the checkpoint %s holds the whole passes: %d spp\n",
                          opt.checkpoint.c_str(), last_whole_samples);

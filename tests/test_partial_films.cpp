@@ -254,6 +254,18 @@ TEST_F(PartialFilmsCli, UsageErrors) {
     }
 }
 
+/// An interrupted part writes nothing (a part holds whole passes; a rerun makes it whole).
+TEST_F(PartialFilmsCli, AnInterruptedPartIsNotWritten) {
+    const pid_t pid = ::test::spawn({"cornell", "--width", "160", "--height", "120", "--spp", "100000",
+                                     "--threads", "2", "--passes", "0:100", "-o", path("part.film")},
+                                    dir / "log");
+    ASSERT_TRUE(::test::wait_for_log(dir / "log", "progress")) << log();
+    kill(pid, SIGINT);
+    EXPECT_EQ(::test::wait_exit(pid), 130);
+    EXPECT_NE(log().find("no partial film written"), std::string::npos) << log();
+    EXPECT_FALSE(fs::exists(dir / "part.film") || fs::exists(dir / "part.partial.film"));
+}
+
 TEST_F(PartialFilmsCli, PrintPassesGivesTheSplit) {
     ASSERT_EQ(run({"cornell", "--width", "100", "--height", "80", "--spp", "1001", "--print-passes"}), 0);
     EXPECT_EQ(log(), "passes 3\nspp_per_pass 500\nspp 1001\n");
