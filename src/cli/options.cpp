@@ -321,13 +321,13 @@ Options parse_options(const std::vector<std::string>& args) {
             o.integrator = integrator_from_name(v);
             if (!o.integrator)
                 throw UsageError(flag + ": expected path, bdpt or vcm, got '" + v + "'." +
-                                 suggestion(v, {"path", "bdpt", "vcm"}));
+                                 suggestion(v, integrator_names()));
         } else if (flag == "--light-sampling") {
             const std::string v = next_value();
             o.light_sampling = light_sampling_from_name(v);
             if (!o.light_sampling)
                 throw UsageError(flag + ": expected mis, bsdf or light, got '" + v + "'." +
-                                 suggestion(v, {"mis", "bsdf", "light"}));
+                                 suggestion(v, light_sampling_names()));
         } else if (flag == "--merge-radius") {
             o.merge_radius = parse_real(flag, next_value(), 1e-12, 1e12, "a radius from 1e-12 to 1e12");
         } else if (flag == "--no-dispersion") {
