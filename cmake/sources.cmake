@@ -6,6 +6,7 @@ set(SPT_CORE_SOURCES
     src/cli/live_preview.cpp
     src/cli/options.cpp
     src/cli/output_names.cpp
+    src/cli/partial_films.cpp
     src/cli/progress_bar.cpp
     src/cli/render_metadata.cpp
     src/core/text.cpp

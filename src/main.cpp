@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <exception>
 #include <filesystem>
+#include <set>
 #include <string>
 #include <thread>
 #include <vector>
@@ -17,6 +18,7 @@
 #include "cli/live_preview.h"
 #include "cli/options.h"
 #include "cli/output_names.h"
+#include "cli/partial_films.h"
 #include "cli/progress_bar.h"
 #include "cli/render_metadata.h"
 #include "io/atomic_file.h"
@@ -182,6 +184,17 @@ int run(const spt::Options& opt) {
     rs.integrator = integrator.settings;
     rs.pass_spp = opt.pass_spp;
     rs.time_limit = opt.time_limit;
+    if (opt.print_passes) {
+        std::printf("passes %d\nspp_per_pass %d\nspp %d\n", spt::pass_count(rs), spt::chunk_spp(rs), rs.spp);
+        return 0;
+    }
+    // Every output is a .film or none is (checked by the parser).
+    const bool partial_film = spt::is_partial_film_path(outputs.front());
+    if (partial_film) {
+        const auto [first, end] = spt::pass_samples(rs, opt.passes.value_or(std::pair{0, spt::pass_count(rs)}));
+        rs.first_sample = first;
+        rs.end_sample = end;
+    }
 
     // Fail before a long render, not after it, when an image cannot be written there.
     for (const std::string& path : outputs) {
@@ -207,9 +220,10 @@ int run(const spt::Options& opt) {
                                 (kind == spt::IntegratorKind::vcm && rs.integrator.merge_radius > 0
                                      ? " merge-radius=" + std::to_string(rs.integrator.merge_radius) : std::string()) +
                                 (sensor ? " sensor=" + opt.sensor + "#" + std::to_string(sensor->fingerprint())
-                                        : std::string());
+                                        : std::string()) +
+                                spt::scene_fingerprint(opt.scene);
     spt::CheckpointInfo info{opt.scene, variant, rs.width, rs.height, rs.spp, opt.spectral.bins,
-                             rs.integrator.max_depth, rs.seed, 0};
+                             rs.integrator.max_depth, rs.seed, 0, rs.first_sample};
     spt::Film film(rs.width, rs.height, sensor ? *sensor : spt::Cie1931::get());
     if (const spt::SpectralBands& bands = opt.spectral_bands; bands.count > 0) {
         film.enable_bands(bands);
@@ -277,8 +291,14 @@ int run(const spt::Options& opt) {
     // An unfinished image never replaces an output: it goes beside it, under its partial name.
     const std::vector<std::string> written =
         stats.cancelled ? spt::partial_output_names(outputs) : outputs;
-    const std::optional<double> auto_stops =
-        write_outputs(opt, written, film, spt::render_metadata(opt, rs, stats, film.observer()));
+    std::optional<double> auto_stops;
+    if (!partial_film) {
+        auto_stops = write_outputs(opt, written, film, spt::render_metadata(opt, rs, stats, film.observer()));
+    } else if (!stats.cancelled) {  // an unfinished part is not written: rendered again, it is whole
+        info.samples_completed = stats.samples_completed;
+        const std::string state = film.save_state();
+        for (const std::string& path : outputs) spt::save_checkpoint(path, info, state, spt::FilmFile::partial);
+    }
     if (!stats.cancelled) preview.remove_preview_files();
     if (!opt.checkpoint.empty()) {
         info.samples_completed = stats.cancelled ? last_whole_samples : stats.samples_completed;
@@ -297,6 +317,11 @@ int run(const spt::Options& opt) {
         if (!stats.cancelled)
             for (const std::string& path : outputs) std::fprintf(stderr, "  wrote %s\n", path.c_str());
     }
+    if (stats.cancelled && partial_film) {
+        std::fprintf(stderr, "pathtracer: interrupted by signal %d: no partial film written (a part is "
+                     "whole passes; render it again)\n", g_signal.load());
+        return 128 + g_signal.load();
+    }
     if (stats.cancelled) {
         const auto [fewest, most] = film.sample_count_range();
         const std::string spp = (fewest == most ? "" : std::to_string(fewest) + " to ") +
@@ -313,10 +338,77 @@ int run(const spt::Options& opt) {
     return 0;
 }
 
+/// `pathtracer merge PARTS... -o FILE...`: the partial films merged into images (or a film).
+int run_merge(const std::vector<std::string>& args) {
+    // .film outputs are taken out here (the render's parser refuses them beside images).
+    std::vector<std::string> parts, films, rest;
+    for (std::size_t i = 0; i < args.size(); ++i) {
+        const bool output_flag = args[i] == "-o" || args[i] == "--output";
+        if (output_flag && i + 1 < args.size() && spt::is_partial_film_path(args[i + 1]))
+            films.push_back(args[++i]);
+        else
+            (spt::is_partial_film_path(args[i]) ? parts : rest).push_back(args[i]);
+    }
+    spt::Options opt = spt::parse_options(rest);
+    const std::set<std::string> output_flags = {"--output", "--color-space", "--exposure", "--auto-exposure",
+                                                "--tonemap", "--white-balance", "--color-resolution", "--quiet"};
+    for (const std::string& flag : opt.given)
+        if (!output_flags.contains(flag))
+            throw spt::UsageError("merge: " + flag + " is not an output option (the parts hold the render's settings)");
+    if (opt.scene != spt::Options{}.scene)
+        throw spt::UsageError("merge: expected partial films (.film), got '" + opt.scene + "'");
+    if (opt.outputs.empty() && films.empty()) throw spt::UsageError("merge: expected -o FILE (the merged image)");
+    const spt::MergedParts merged = spt::merge_partial_films(parts);
+
+    const std::vector<std::string>& images = opt.outputs;
+    if (!merged.missing.empty()) {
+        for (const std::string& path : images)
+            if (spt::image_format_from_path(path) != spt::ImageFormat::Exr)
+                throw std::runtime_error("cannot write '" + path + "': samples " + merged.missing +
+                                         " of the render are in no part, and only an .exr output records how "
+                                         "many samples it holds");
+        if (!films.empty() && merged.ranges.size() > 1)
+            throw std::runtime_error("cannot write '" + films.front() + "': a partial film holds one range of "
+                                     "samples, and samples " + merged.missing + " are in no part");
+        std::fprintf(stderr, "pathtracer: warning: samples %s of the render are in no part: the image holds "
+                     "%d of %d spp\n", merged.missing.c_str(), merged.samples, merged.info.spp);
+    }
+    // The render's settings, for the EXR metadata.
+    opt.scene = merged.info.scene;
+    opt.spectral.bins = merged.info.spectral_bins;
+    spt::RenderSettings rs;
+    rs.spp = merged.info.spp;
+    rs.seed = merged.info.seed;
+    rs.integrator.max_depth = merged.info.max_depth;
+    const std::string& variant = merged.info.variant;
+    for (spt::IntegratorKind kind : {spt::IntegratorKind::bdpt, spt::IntegratorKind::vcm})
+        if (variant.find(std::string(" integrator=") + spt::integrator_name(kind)) != std::string::npos)
+            rs.integrator.kind = kind;
+    rs.integrator.wavelengths_per_path = variant.starts_with("wavelengths-per-path=1") ? 1 : 4;
+    spt::RenderStats stats;
+    stats.samples_completed = merged.samples;
+    std::vector<spt::ExrAttribute> metadata = spt::render_metadata(opt, rs, stats, merged.film->observer());
+    std::string ranges;
+    for (const auto& [first, end] : merged.ranges)
+        ranges += (ranges.empty() ? "" : ", ") + std::to_string(first) + "-" + std::to_string(end);
+    metadata.push_back(spt::ExrAttribute::text("sampleRanges", ranges));
+    if (!images.empty()) write_outputs(opt, images, *merged.film, std::move(metadata));
+    for (const std::string& path : films)
+        spt::save_checkpoint(path, merged.info, merged.film->save_state(), spt::FilmFile::partial);
+    if (!opt.quiet)
+        for (const std::vector<std::string>& list : {images, films})
+            for (const std::string& path : list)
+                std::fprintf(stderr, "  wrote %s (%zu parts, %d of %d spp)\n", path.c_str(), parts.size(),
+                             merged.samples, merged.info.spp);
+    return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
     try {
+        if (argc > 1 && std::string(argv[1]) == "merge")
+            return run_merge(std::vector<std::string>(argv + 2, argv + argc));
         const spt::Options opt = spt::parse_options(std::vector<std::string>(argv + 1, argv + argc));
         if (opt.show_help) {
             std::fputs(spt::usage_text().c_str(), stdout);

@@ -1,6 +1,7 @@
 // Running the pathtracer program (SPT_PATHTRACER) as a child process that a test can signal,
 // watch and wait for: the interrupt, preview and display-server tests.
 #pragma once
+#include <gtest/gtest.h>
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -15,6 +16,18 @@
 #include <vector>
 
 namespace test {
+
+/// A fresh empty directory for the running test: temp/spt-<prefix>-<pid>-<test name> (the
+/// caller removes it in TearDown).
+inline std::filesystem::path fresh_test_dir(const std::string& prefix) {
+    const std::filesystem::path dir =
+        std::filesystem::temp_directory_path() /
+        ("spt-" + prefix + "-" + std::to_string(getpid()) + "-" +
+         ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+    return dir;
+}
 
 inline std::string read_file(const std::filesystem::path& p) {
     std::ifstream in(p, std::ios::binary);

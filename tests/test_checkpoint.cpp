@@ -27,11 +27,7 @@ using test::wait_for_log;
 class Checkpoint : public ::testing::Test {
 protected:
     void SetUp() override {
-        dir = fs::temp_directory_path() /
-              ("spt-checkpoint-" + std::to_string(getpid()) + "-" +
-               ::testing::UnitTest::GetInstance()->current_test_info()->name());
-        fs::remove_all(dir);
-        fs::create_directories(dir);
+        dir = test::fresh_test_dir("checkpoint");
     }
     void TearDown() override { fs::remove_all(dir); }
     std::vector<std::string> base_args(const std::string& out) const {

@@ -574,13 +574,16 @@ TEST_F(Cli, SceneChoosesItsIntegratorAndTheCommandLineOverrides) {
     EXPECT_NE(read_file(m_dir / "over.pfm"), read_file(m_dir / "chosen.pfm"));
 }
 
-TEST_F(Cli, IntegratorNamesIgnoreCase) {
+TEST_F(Cli, NamesIgnoreCase) {
     ASSERT_EQ(run(tiny({"cornell-point", "--integrator", "BDPT", "-o", "upper.pfm"})).exit_code, 0);
     ASSERT_EQ(run(tiny({"cornell-point", "--integrator", "bdpt", "-o", "lower.pfm"})).exit_code, 0);
     ASSERT_EQ(run(tiny({"cornell-point", "-o", "path.pfm"})).exit_code, 0);
     EXPECT_EQ(read_file(m_dir / "upper.pfm"), read_file(m_dir / "lower.pfm"));
     EXPECT_NE(read_file(m_dir / "upper.pfm"), read_file(m_dir / "path.pfm"));
     EXPECT_EQ(run(tiny({"--light-sampling", "MIS", "-o", "a.pfm", "--color-space", "ACEScg"})).exit_code, 0);
+    ASSERT_EQ(run(tiny({"--tonemap", "CLIP", "--white-balance", "d50", "-o", "upper.png"})).exit_code, 0);
+    ASSERT_EQ(run(tiny({"--tonemap", "clip", "--white-balance", "D50", "-o", "lower.png"})).exit_code, 0);
+    EXPECT_EQ(read_file(m_dir / "upper.png"), read_file(m_dir / "lower.png"));
 }
 
 TEST_F(Cli, FlagsWithoutEffectAreWarnedAbout) {

@@ -53,10 +53,7 @@ TEST(PartialName, InsertsPartialBeforeTheExtensionOfTheFileName) {
 class Preview : public ::testing::Test {
 protected:
     void SetUp() override {
-        dir = fs::temp_directory_path() / ("spt-preview-" + std::to_string(getpid()) + "-" +
-                                           ::testing::UnitTest::GetInstance()->current_test_info()->name());
-        fs::remove_all(dir);
-        fs::create_directories(dir);
+        dir = test::fresh_test_dir("preview");
     }
     void TearDown() override { fs::remove_all(dir); }
     std::vector<std::string> args(int width, int height, int spp,

@@ -197,10 +197,7 @@ std::vector<float> pfm_pixels(const std::string& bytes, int width, int height) {
 class DisplayServer : public ::testing::Test {
 protected:
     void SetUp() override {
-        dir = fs::temp_directory_path() / ("spt-tev-" + std::to_string(getpid()) + "-" +
-                                           ::testing::UnitTest::GetInstance()->current_test_info()->name());
-        fs::remove_all(dir);
-        fs::create_directories(dir);
+        dir = test::fresh_test_dir("tev");
     }
     void TearDown() override { fs::remove_all(dir); }
 

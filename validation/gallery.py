@@ -38,13 +38,13 @@ def main():
     os.makedirs(OUT, exist_ok=True)
     cells = []
     for name, w, h, spp, integrator, summary in list_scenes(args.program):
-        height = max(1, round(args.width * h / w))
         out = os.path.join(OUT, f"{name}.png")
         t0 = time.perf_counter()
-        subprocess.run([args.program, name, "--width", str(args.width), "--height", str(height), "--quiet",
-                        "-o", out], check=True)
+        # --width alone: the program keeps the scene's aspect ratio.
+        subprocess.run([args.program, name, "--width", str(args.width), "--quiet", "-o", out], check=True)
         took = time.perf_counter() - t0
-        print(f"{name}: {args.width}x{height}, {spp} spp, {integrator}, {took:.1f} s", file=sys.stderr)
+        print(f"{name}: {args.width}x{round(args.width * h / w)}, {spp} spp, {integrator}, {took:.1f} s",
+              file=sys.stderr)
         rel = os.path.relpath(out, ROOT)
         cells.append(f"![{name}]({rel})<br>`{name}` ({integrator}): {summary}")
     rows = [cells[i:i + args.columns] for i in range(0, len(cells), args.columns)]

@@ -8,6 +8,7 @@
 
 #include "core/text.h"
 #include "cli/output_names.h"
+#include "cli/partial_films.h"
 #include "io/image_writer.h"
 #include "spectral/color_space.h"
 
@@ -67,12 +68,14 @@ const std::vector<std::string>& known_flags() {
         "--print-adaptation", "--color-resolution", "--color-space", "--spectral-bins", "--spectral-bands",
         "--spectral-range", "--sensor", "--preview-interval", "--display-server", "--threads", "--seed",
         "--checkpoint", "--resume", "--checkpoint-interval", "--time-limit", "--wavelengths-per-path",
-        "--integrator", "--light-sampling", "--merge-radius", "--no-dispersion", "--pass-spp", "--max-depth"};
+        "--integrator", "--light-sampling", "--merge-radius", "--no-dispersion", "--pass-spp", "--max-depth",
+        "--passes", "--print-passes"};
     return flags;
 }
 
 std::string usage_text() {
     return R"(Usage: pathtracer [SCENE] [options]
+       pathtracer merge PART.film... -o FILE [-o FILE...] [output options]
 
 Spectral Monte Carlo path tracer. SCENE is a built-in scene name (default: cornell; see
 --list-scenes) or a scene file (.json, format in scenes/README.md). An error in a scene file
@@ -86,7 +89,9 @@ Options:
                          at least 1); not with --width or --height
   -o, --output FILE      output image; repeat to write several files from one render.
                          Format by extension: .png (sRGB 8-bit, tone-mapped), .exr and .pfm
-                         (linear float), .ppm (P3 with #MAX=). Default: SCENE.png
+                         (linear float), .ppm (P3 with #MAX=), .film (a partial film:
+                         the film's sums for 'pathtracer merge'; then every output is a
+                         .film). Default: SCENE.png
   --exposure STOPS       PNG exposure adjustment in stops (-20 to 20; default 0)
   --auto-exposure        PNG: also add the stops that bring the median luminance of the
                          non-black pixels to 0.18 (middle grey); the summary prints them
@@ -154,10 +159,23 @@ Options:
                          port 14158; IPv6 as [ADDR]:PORT): the image, named after the
                          first output, is sent with the previews of --preview-interval, or
                          else after every pass, in passes of about 1 s unless --pass-spp
+  --passes A:B           render only passes A to B-1 (0 <= A < B <= the pass count) of the
+                         render's automatic passes into .film outputs, to be merged with
+                         the other parts (default: all passes). Not with --pass-spp,
+                         --time-limit, checkpoints, previews, --sensor or --spectral-bands
+  --print-passes         print 'passes N', 'spp_per_pass K' and 'spp S' of the render and
+                         exit (N = ceil(S/K); for splitting it into --passes ranges)
   --quiet                no progress bar and no summary
   --list-scenes          list the built-in scenes
   -h, --help             this text
   --version              the program version
+
+Merging: 'pathtracer merge PARTS... -o FILE' combines partial films of one render (same
+scene file, settings and seed; disjoint passes, in any order) into the image one render of
+all their passes makes, bit for bit. Outputs as above (a .film output: the merged film, if
+its samples are contiguous); output options (--color-space, --exposure, --auto-exposure,
+--tonemap, --white-balance, --color-resolution, --quiet) apply. Passes missing from every
+part are allowed only with .exr outputs (their spp attribute says the samples held).
 
 Diagnostics:
   --rgb-to-spectrum R,G,B  print the spectrum fitted to a linear sRGB reflectance (each in
@@ -208,13 +226,15 @@ Options parse_options(const std::vector<std::string>& args) {
             const std::optional<Chromaticity> white = parse_white(v);
             if (!white)
                 throw UsageError(flag + ": expected A, D50, D55, D65, D75, E, F2, F11 or a "
-                                        "temperature from 1000K to 25000K, got '" + v + "'");
+                                        "temperature from 1000K to 25000K, got '" + v + "'." +
+                                 suggestion(v, {"A", "D50", "D55", "D65", "D75", "E", "F2", "F11"}));
             (flag == "--white-balance" ? o.white_balance : o.print_adaptation) = white;
         } else if (flag == "--tonemap") {
             const std::string v = next_value();
-            const std::optional<ToneMap> map = tone_map_from_name(v);
+            const std::optional<ToneMap> map = tone_map_from_name(lowercase(v));
             if (!map)
-                throw UsageError(flag + ": expected neutral, pbr-neutral or clip, got '" + v + "'");
+                throw UsageError(flag + ": expected neutral, pbr-neutral or clip, got '" + v + "'." +
+                                 suggestion(v, {"neutral", "pbr-neutral", "clip"}));
             o.tone_map = *map;
         } else if (flag == "--auto-exposure") {
             o.auto_exposure = true;
@@ -229,9 +249,9 @@ Options parse_options(const std::vector<std::string>& args) {
             (flag == "--width" ? o.width : o.height) = v;
         } else if (flag == "-o" || flag == "--output") {
             const std::string path = next_value();
-            if (!image_format_from_path(path))
-                throw UsageError(flag + ": expected a file name ending in .png, .exr, .pfm or .ppm, got '" +
-                                 path + "'");
+            if (!image_format_from_path(path) && !is_partial_film_path(path))
+                throw UsageError(flag + ": expected a file name ending in .png, .exr, .pfm, .ppm or .film, "
+                                 "got '" + path + "'");
             o.outputs.push_back(path);
         } else if (flag == "--exposure") {
             o.exposure = parse_real(flag, next_value(), -20, 20, "a number of stops from -20 to 20");
@@ -301,19 +321,23 @@ Options parse_options(const std::vector<std::string>& args) {
             o.integrator = integrator_from_name(v);
             if (!o.integrator)
                 throw UsageError(flag + ": expected path, bdpt or vcm, got '" + v + "'." +
-                                 suggestion(v, {"path", "bdpt", "vcm"}));
+                                 suggestion(v, integrator_names()));
         } else if (flag == "--light-sampling") {
             const std::string v = next_value();
             o.light_sampling = light_sampling_from_name(v);
             if (!o.light_sampling)
                 throw UsageError(flag + ": expected mis, bsdf or light, got '" + v + "'." +
-                                 suggestion(v, {"mis", "bsdf", "light"}));
+                                 suggestion(v, light_sampling_names()));
         } else if (flag == "--merge-radius") {
             o.merge_radius = parse_real(flag, next_value(), 1e-12, 1e12, "a radius from 1e-12 to 1e12");
         } else if (flag == "--no-dispersion") {
             o.dispersion = false;
         } else if (flag == "--pass-spp") {
             o.pass_spp = parse_integer<int>(flag, next_value(), 1, 1000000, "an integer from 1 to 1000000");
+        } else if (flag == "--passes") {
+            o.passes = parse_pass_range(flag, next_value());
+        } else if (flag == "--print-passes") {
+            o.print_passes = true;
         } else if (flag == "--max-depth") {
             o.max_depth = parse_integer<int>(flag, next_value(), 0, 100000, "an integer from 0 to 100000");
         } else if (!arg.empty() && arg[0] == '-') {
@@ -328,12 +352,14 @@ Options parse_options(const std::vector<std::string>& args) {
         else if (flag == "-o") o.given.insert("--output");
         if (inline_value && (flag == "-h" || flag == "--help" || flag == "--version" ||
                              flag == "--list-scenes" || flag == "--quiet" ||
-                             flag == "--no-dispersion" || flag == "--auto-exposure"))
+                             flag == "--no-dispersion" || flag == "--auto-exposure" ||
+                             flag == "--print-passes"))
             throw UsageError(flag + ": takes no value");
     }
     if (o.scale && (o.width || o.height))
         throw UsageError("--scale: cannot be combined with --width or --height");
     check_spectral_output(o, spectral_range_given);
+    check_partial_film_options(o);
     // X.partial.ext is where the unfinished image of X.ext goes: it cannot be an output too.
     for (const std::string& path : o.outputs)
         if (std::find(o.outputs.begin(), o.outputs.end(), partial_output_name(path)) != o.outputs.end())

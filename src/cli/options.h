@@ -6,6 +6,7 @@
 #include <set>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "io/tone_map.h"
@@ -54,6 +55,10 @@ struct Options {
     /// render); unset: none. 0: after every pass.
     std::optional<double> preview_interval;
     std::optional<DisplayServerAddress> display_server;  ///< a tev viewer to show the render in
+    /// --passes A:B: render only passes [A, B) of the render's automatic passes (a partial
+    /// film, see partial_films.h); unset: all of them.
+    std::optional<std::pair<int, int>> passes;
+    bool print_passes = false;  ///< print the render's pass count and size, and exit
     bool quiet = false;
     /// Every flag given, by its long name ("--spp"), for warnings about flags without effect.
     std::set<std::string> given;

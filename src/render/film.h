@@ -1,7 +1,11 @@
 // The film: per-pixel sums of CIE XYZ in double precision, in the order samples arrive (each
 // pixel belongs to one tile, each tile to one worker at a time, so no locks are needed).
+// At fixed sample counts (chunk ends, see renderer.h) the renderer folds these sums into exact
+// fixed-point totals, whose addition is associative: films of disjoint chunks merge into the
+// very bits of one film that rendered them all.
 // Samples that are not finite or negative are counted and dropped, never silently fixed.
 #pragma once
+#include <array>
 #include <atomic>
 #include <cstdint>
 #include <string>
@@ -10,6 +14,7 @@
 #include <vector>
 
 #include "io/image.h"
+#include "render/exact_sum.h"
 #include "spectral/cie.h"
 #include "spectral/color_space.h"
 #include "spectral/spectral_bands.h"
@@ -100,8 +105,20 @@ public:
     Image develop_raw() const;
     const Observer& observer() const { return *m_observer; }
 
-    /// Raw state, for bit-exact comparisons.
-    const std::vector<double>& xyz_sums() const { return m_xyz; }
+    /// Raw state, for bit-exact comparisons: per pixel X, Y, Z sums (folded totals plus the
+    /// chunk in progress).
+    std::vector<double> xyz_sums() const;
+
+    // ---- Folding and merging (exact: see exact_sum.h) ----
+    /// Moves pixel (x, y)'s sample sums into its exact totals (a chunk of its samples ended).
+    void fold_pixel(int x, int y);
+    /// Moves every pixel's splat sums into their exact totals (a chunk of passes ended).
+    void fold_splats();
+    /// True when every sum is folded (nothing in the chunk sums): such films can be merged.
+    bool is_folded() const;
+    /// Adds the samples of `part`, a folded film of the same size rendering disjoint
+    /// samples of the same render. Exact, so the order of the parts does not matter.
+    void merge(const Film& part);
 
     /// The whole accumulation state as bytes (checkpoints) and back. restore_state throws
     /// std::runtime_error when the bytes do not describe a film of this size.
@@ -115,7 +132,11 @@ private:
     void allocate_splats() {
         m_splat_xyz.assign(m_xyz.size(), 0.0);
         m_splat_y_squared.assign(m_y_squared.size(), 0.0);
+        m_exact_splats.assign(4 * m_y_squared.size(), ExactSum{});
     }
+    /// Pixel i's sums: exact totals plus the chunk in progress (x, y, z, y²).
+    std::array<double, 4> pixel_sums(std::size_t i) const;
+    std::array<double, 4> pixel_splat_sums(std::size_t i) const;
     /// Light paths per pixel (M of the splat estimator); 0 when none were traced.
     double light_paths_per_pixel() const {
         return static_cast<double>(m_light_paths) / (static_cast<double>(m_width) * m_height);
@@ -131,6 +152,8 @@ private:
     std::vector<double> m_splat_xyz, m_splat_y_squared;  ///< empty unless splats were added
     std::uint64_t m_light_paths = 0;
     std::vector<double> m_y_squared;
+    /// Folded totals: x, y, z, y² per pixel; with splats, the same for them.
+    std::vector<ExactSum> m_exact, m_exact_splats;
     std::vector<std::uint32_t> m_count;
     std::atomic<std::uint64_t> m_rejected_nonfinite{0}, m_rejected_negative{0};
 };

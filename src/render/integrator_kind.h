@@ -1,8 +1,11 @@
 // The names of the integrators and of the path tracer's light-sampling modes: what the command
 // line and scene files choose from. No dependencies, so a scene can name its integrator.
 #pragma once
+#include <cstddef>
 #include <optional>
+#include <string>
 #include <string_view>
+#include <vector>
 
 #include "core/text.h"
 
@@ -20,8 +23,7 @@ enum class IntegratorKind { path, bdpt, vcm };
 /// last two exist to measure what MIS buys and to test it.
 enum class LightSampling { mis, bsdf, light };
 
-/// The command-line name of an integrator, and back (case-insensitive; nullopt for an unknown
-/// name).
+/// The command-line name of an integrator.
 constexpr const char* integrator_name(IntegratorKind kind) {
     switch (kind) {
         case IntegratorKind::bdpt: return "bdpt";
@@ -30,13 +32,7 @@ constexpr const char* integrator_name(IntegratorKind kind) {
     }
     return "path";
 }
-inline std::optional<IntegratorKind> integrator_from_name(std::string_view name) {
-    for (IntegratorKind k : {IntegratorKind::path, IntegratorKind::bdpt, IntegratorKind::vcm})
-        if (equal_ignoring_case(name, integrator_name(k))) return k;
-    return std::nullopt;
-}
-
-/// The name of a light-sampling mode, and back (case-insensitive; nullopt for an unknown name).
+/// The name of a light-sampling mode.
 constexpr const char* light_sampling_name(LightSampling mode) {
     switch (mode) {
         case LightSampling::bsdf: return "bsdf";
@@ -45,10 +41,33 @@ constexpr const char* light_sampling_name(LightSampling mode) {
     }
     return "mis";
 }
-inline std::optional<LightSampling> light_sampling_from_name(std::string_view name) {
-    for (LightSampling m : {LightSampling::mis, LightSampling::bsdf, LightSampling::light})
-        if (equal_ignoring_case(name, light_sampling_name(m))) return m;
+
+inline constexpr IntegratorKind kIntegratorKinds[] = {IntegratorKind::path, IntegratorKind::bdpt, IntegratorKind::vcm};
+inline constexpr LightSampling kLightSamplingModes[] = {LightSampling::mis, LightSampling::bsdf, LightSampling::light};
+
+/// The value whose name is `name` (ignoring case), or nullopt. Use: name_lookup(kIntegratorKinds,
+/// integrator_name, text).
+template <typename T, std::size_t N>
+std::optional<T> name_lookup(const T (&values)[N], const char* (*name_of)(T), std::string_view name) {
+    for (T v : values)
+        if (equal_ignoring_case(name, name_of(v))) return v;
     return std::nullopt;
 }
+/// Every value's name, in order (for messages and "did you mean").
+template <typename T, std::size_t N>
+std::vector<std::string> names_of(const T (&values)[N], const char* (*name_of)(T)) {
+    std::vector<std::string> names;
+    for (T v : values) names.emplace_back(name_of(v));
+    return names;
+}
+
+inline std::optional<IntegratorKind> integrator_from_name(std::string_view name) {
+    return name_lookup(kIntegratorKinds, integrator_name, name);
+}
+inline std::optional<LightSampling> light_sampling_from_name(std::string_view name) {
+    return name_lookup(kLightSamplingModes, light_sampling_name, name);
+}
+inline std::vector<std::string> integrator_names() { return names_of(kIntegratorKinds, integrator_name); }
+inline std::vector<std::string> light_sampling_names() { return names_of(kLightSamplingModes, light_sampling_name); }
 
 }  // namespace spt

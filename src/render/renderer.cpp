@@ -108,10 +108,12 @@ void render_pixel_bdpt(const BdptContext& ctx, const RenderSettings& settings, i
                        int first_sample, int end_sample, Film& film, PathStats& stats,
                        std::vector<Splat>& splats) {
     const RngStream stream = pixel_stream(settings, x, y);
+    int chunk_end = next_chunk_end(settings, first_sample);
     for (int s = first_sample; s < end_sample; ++s) {
         PixelSample ps = start_pixel_sample(stream, x, y, s, settings, ctx.camera);
         const SampledSpectrum L = trace_bdpt(ctx, ps.ray(ctx.camera), ps.lambda, ps.rng, stats, splats);
         film.add_sample(x, y, L, ps.lambda);
+        if (s + 1 == chunk_end) film.fold_pixel(x, y), chunk_end = next_chunk_end(settings, chunk_end);
     }
 }
 
@@ -172,6 +174,7 @@ public:
     /// the pass's wavelengths instead of its own), connected to light subpath y·width + x.
     void render_tile(const TileTask& task, Film& film, PathStats& stats) const {
         const MergeContext mc = m_pass.context();
+        const bool chunk_ends = next_chunk_end(m_settings, task.first_sample) == task.first_sample + 1;
         for (int y = task.y0; y < task.y1; ++y)
             for (int x = task.x0; x < task.x1; ++x) {
                 const int s = task.first_sample;
@@ -180,6 +183,7 @@ public:
                 const SampledSpectrum L =
                     trace_camera_subpath(m_ctx, mc, light_path, ps.ray(m_ctx.camera), m_lambda, ps.rng, stats);
                 film.add_sample(x, y, L, m_lambda);
+                if (chunk_ends) film.fold_pixel(x, y);
             }
     }
 
@@ -225,27 +229,39 @@ private:
     std::uint64_t m_paths = 0;
 };
 
-}  // namespace
-
-int effective_pass_spp(const RenderSettings& s) {
+/// Samples per pass for an explicit --pass-spp (0: automatic).
+int pass_size(const RenderSettings& s, int pass_spp) {
     // Vertex merging traces the light subpaths of one sample for all pixels, then the camera
     // subpaths: one sample per pass.
     if (s.integrator.kind == IntegratorKind::vcm) return 1;
-    if (s.pass_spp > 0) return std::min(s.pass_spp, s.spp);
+    if (pass_spp > 0) return std::min(pass_spp, s.spp);
     // About four million paths per pass: frequent enough for progress and interruption,
     // long enough that waiting for the last tile of a pass costs little.
     const double pixels = double(s.width) * s.height;
-    const int pass = static_cast<int>(std::max(1.0, 4.0e6 / pixels));
+    const int pass = static_cast<int>(std::max(1.0, s.paths_per_pass / pixels));
     return std::min(pass, s.spp);
+}
+
+}  // namespace
+
+int effective_pass_spp(const RenderSettings& s) { return pass_size(s, s.pass_spp); }
+
+int chunk_spp(const RenderSettings& s) { return pass_size(s, 0); }
+
+int next_chunk_end(const RenderSettings& s, int samples) {
+    const int chunk = chunk_spp(s);
+    return std::min(s.spp, (samples / chunk + 1) * chunk);
 }
 
 void render_pixel(const Scene& scene, const RenderSettings& settings, const Camera& camera, int x,
                   int y, int first_sample, int end_sample, Film& film, PathStats& stats) {
     const RngStream stream = pixel_stream(settings, x, y);
+    int chunk_end = next_chunk_end(settings, first_sample);
     for (int s = first_sample; s < end_sample; ++s) {
         PixelSample ps = start_pixel_sample(stream, x, y, s, settings, camera);
         const SampledSpectrum L = trace_path(scene, settings.integrator, ps.ray(camera), ps.lambda, ps.rng, stats);
         film.add_sample(x, y, L, ps.lambda);
+        if (s + 1 == chunk_end) film.fold_pixel(x, y), chunk_end = next_chunk_end(settings, chunk_end);
     }
 }
 
@@ -265,12 +281,13 @@ RenderStats render(const Scene& scene, const RenderSettings& settings, Film& fil
     const bool timed_passes = settings.pass_seconds > 0 && settings.pass_spp == 0 && !vcm;
     int pass_spp = timed_passes ? 1 : max_pass_spp;
     RenderStats stats;
-    const int first_sample = std::clamp(settings.first_sample, 0, settings.spp);
-    auto passes_left = [&](int first) { return (settings.spp - first + pass_spp - 1) / pass_spp; };
+    const int end_sample = settings.end_sample > 0 ? std::min(settings.end_sample, settings.spp) : settings.spp;
+    const int first_sample = std::clamp(settings.first_sample, 0, end_sample);
+    auto passes_left = [&](int first) { return (end_sample - first + pass_spp - 1) / pass_spp; };
     stats.passes_total = passes_left(first_sample);
     stats.samples_completed = first_sample;
     const std::uint64_t total_paths =
-        std::uint64_t(settings.width) * settings.height * (settings.spp - first_sample);
+        std::uint64_t(settings.width) * settings.height * (end_sample - first_sample);
 
     const bool bdpt = settings.integrator.kind == IntegratorKind::bdpt;
     std::optional<LightSampler> lights;
@@ -328,9 +345,9 @@ RenderStats render(const Scene& scene, const RenderSettings& settings, Film& fil
     // Producer: one pass at a time, so a pixel never gets samples out of order.
     const int ts = settings.tile_size;
     double seconds_per_spp = 0;  // pace of the last pass
-    for (int first = first_sample; first < settings.spp && !cancelled();) {
+    for (int first = first_sample; first < end_sample && !cancelled();) {
         const auto pass_start = std::chrono::steady_clock::now();
-        const int end = std::min(settings.spp, first + pass_spp);
+        const int end = std::min(end_sample, first + pass_spp);
         if (settings.time_limit > 0 && first > first_sample) {
             const double elapsed = std::chrono::duration<double>(pass_start - start).count();
             if (elapsed + seconds_per_spp * (end - first) > settings.time_limit) {
@@ -360,6 +377,7 @@ RenderStats render(const Scene& scene, const RenderSettings& settings, Film& fil
         while (!latch.wait_for(tiles, std::chrono::milliseconds(200)))
             if (progress) progress(latch.paths(), total_paths);
         if (cancelled()) break;
+        if (film.has_splats() && next_chunk_end(settings, end - 1) == end) film.fold_splats();
         ++stats.passes_completed;
         stats.samples_completed = end;
         if (hooks.pass_completed) hooks.pass_completed(end);
@@ -378,7 +396,7 @@ RenderStats render(const Scene& scene, const RenderSettings& settings, Film& fil
 
     stats.paths = latch.paths();
     stats.rays = rays.load();
-    stats.cancelled = cancelled() && stats.samples_completed < settings.spp;
+    stats.cancelled = cancelled() && stats.samples_completed < end_sample;
     stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (progress) progress(stats.paths, total_paths);
     return stats;

@@ -25,7 +25,13 @@ struct RenderSettings {
     /// that live previews, which are written between passes, come on time. No effect on vcm
     /// (one sample per pass) or on the image.
     double pass_seconds = 0;
+    /// Paths per automatic pass (the program's 4 million; tests lower it to cut small
+    /// renders into many passes). Sets the chunks, so it changes the image's last bits.
+    double paths_per_pass = 4.0e6;
     int first_sample = 0;       ///< samples per pixel already in the film (resuming)
+    /// > 0: stop after this many samples per pixel instead of spp (a partial film rendering
+    /// samples [first_sample, end_sample) of the spp-sample render; a chunk end, see below).
+    int end_sample = 0;
     /// Seconds (0: no limit): a pass is not started if, at the pace of the previous one, it
     /// would end after this. The first pass always runs, so the image has samples.
     double time_limit = 0;
@@ -37,6 +43,15 @@ struct RenderSettings {
 
 /// Samples per pass actually used for these settings (the most, with pass_seconds).
 int effective_pass_spp(const RenderSettings& settings);
+
+/// Samples per chunk: each pixel's sums are folded into the film's exact totals after every
+/// chunk_spp samples and after the last (spp), and the splats after each pass that ends there.
+/// It is the automatic pass size, whatever --pass-spp and timed passes do, so they do not
+/// change the image, and a partial film of whole passes holds whole chunks.
+int chunk_spp(const RenderSettings& settings);
+
+/// The first chunk end after `samples` samples (at most spp).
+int next_chunk_end(const RenderSettings& settings, int samples);
 
 struct RenderStats {
     double seconds = 0;
@@ -61,7 +76,7 @@ struct RenderHooks {
     const std::atomic<bool>* cancel = nullptr;  ///< set (e.g. by a signal) to stop early
 };
 
-/// Renders samples [first_sample, spp) of every pixel into `film` (which must match the
+/// Renders samples [first_sample, end_sample or spp) of every pixel into `film` (which must match the
 /// settings' size), in passes of effective_pass_spp samples. If
 /// hooks.cancel becomes true the render stops after the tiles in flight; the film then holds
 /// whole passes plus part of one, each pixel with its own sample count.

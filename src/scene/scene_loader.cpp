@@ -165,7 +165,7 @@ private:
             type = &required(v, "type", "integrator");
         }
         const std::string& name = string(*type, "integrator type");
-        const std::vector<std::string> names = {"path", "bdpt", "vcm"};
+        const std::vector<std::string> names = integrator_names();
         p.kind = integrator_from_name(name);
         if (!p.kind)
             fail(type->pos(), "unknown integrator " + quote_text(name) + "." + suggestion(name, names) +
@@ -180,7 +180,7 @@ private:
             p.light_sampling = light_sampling_from_name(mode);
             if (!p.light_sampling)
                 fail(ls->pos(), "unknown light_sampling " + quote_text(mode) + "." +
-                                    suggestion(mode, {"mis", "bsdf", "light"}) + " Expected one of: mis, bsdf, light");
+                                    suggestion(mode, light_sampling_names()) + " Expected one of: " + join(light_sampling_names()));
         }
         if (const JsonValue* r = v.find("merge_radius")) {
             if (*p.kind != IntegratorKind::vcm)

@@ -1,0 +1,12 @@
+"""Render one pathtracer image across machines on Dask distributed, merged exactly.
+
+The render's passes are split into ranges; each range is a task that runs
+``pathtracer SCENE ... --passes A:B -o part.film`` on a worker and returns the
+partial film's bytes; the driver gathers them and runs ``pathtracer merge``,
+which makes the image one uninterrupted render would have made, bit for bit.
+See README.md in this folder.
+"""
+
+from .driver import PartResult, plan_passes, render, split_passes
+
+__all__ = ["PartResult", "plan_passes", "render", "split_passes"]
