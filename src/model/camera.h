@@ -23,12 +23,18 @@ struct CameraSpec {
     /// (a plane parallel to the image) are sharp; others blur into the aperture's shape.
     Aperture aperture;
     float focus_distance = 1.f;
+    /// Exposure interval: each path sample sees the scene at one time drawn uniformly in
+    /// it, when something moves (motion blur); with open = close the image is that instant.
+    float shutter_open = 0.f, shutter_close = 1.f;
 };
 
 class Camera {
 public:
-    Camera(const CameraSpec& spec, int width, int height)
-        : m_origin(spec.position), m_aperture(spec.aperture), m_focus_distance(spec.focus_distance) {
+    /// motion_blur: the scene moves while the shutter is open (Effects::motion_blur).
+    Camera(const CameraSpec& spec, int width, int height, bool motion_blur = false)
+        : m_origin(spec.position), m_aperture(spec.aperture), m_focus_distance(spec.focus_distance),
+          m_shutter_open(spec.shutter_open), m_shutter_span(spec.shutter_close - spec.shutter_open),
+          m_motion_blur(motion_blur) {
         const Vec3 forward = normalize(spec.look_at - spec.position);
         const Vec3 right = normalize(cross(forward, spec.up));
         const Vec3 true_up = cross(right, forward);
@@ -53,6 +59,12 @@ public:
 
     /// Whether the camera has an aperture (depth of field): then rays start on the lens.
     bool thin_lens() const { return m_aperture.radius > 0.f; }
+    /// Whether each sample draws its own time in the shutter interval (motion blur).
+    bool motion_blur() const { return m_motion_blur; }
+    /// The time of a sample without motion blur.
+    float shutter_open() const { return m_shutter_open; }
+    /// The time for a uniform number u in [0, 1): uniform over the shutter interval.
+    float shutter_time(float u) const { return m_shutter_open + u * m_shutter_span; }
     /// Thin lens: the point of the lens for two uniform numbers (uniform over the aperture).
     Vec3 lens_point(float u1, float u2) const {
         const AperturePoint a = m_aperture.sample(u1, u2);
@@ -117,6 +129,8 @@ private:
     Vec3 m_lens_right, m_lens_up;  ///< unit axes of the lens plane
     Aperture m_aperture;
     float m_focus_distance = 1.f;
+    float m_shutter_open = 0.f, m_shutter_span = 0.f;
+    bool m_motion_blur = false;
     float m_width = 1.f, m_height = 1.f, m_film_area = 1.f;
 };
 

@@ -59,9 +59,9 @@ class Bdpt {
 public:
     /// eta: merging's density relative to a connection (MergeContext::eta); 0 without merging.
     Bdpt(const BdptContext& ctx, const SampledWavelengths& lambda, Rng& rng, PathStats& stats,
-         std::vector<Vertex>& light, std::vector<Vertex>& camera, float eta = 0.f)
+         std::vector<Vertex>& light, std::vector<Vertex>& camera, float eta = 0.f, float time = 0.f)
         : m_ctx(ctx), m_scene(ctx.scene), m_lambda(lambda), m_rng(rng), m_stats(stats),
-          m_hero(lambda.lambda[0]), m_eta(eta), m_light(light), m_camera(camera) {}
+          m_hero(lambda.lambda[0]), m_eta(eta), m_time(time), m_light(light), m_camera(camera) {}
 
     /// One bidirectional sample: both subpaths, every strategy.
     SampledSpectrum run(const Ray& ray, std::vector<Splat>& splats);
@@ -107,6 +107,7 @@ private:
     PathStats& m_stats;
     float m_hero;
     float m_eta;
+    float m_time;  ///< of the sample: both subpaths and every connection see the scene then
     std::vector<Vertex>& m_light;   ///< light subpath: the origin, then surface vertices
     std::vector<Vertex>& m_camera;  ///< camera subpath: the pinhole, surface vertices, and the
                                     ///< environment when the last ray escaped
@@ -123,7 +124,7 @@ void Bdpt::random_walk(Ray ray, SampledSpectrum beta, float pdf_dir, int max_ver
     int bounces = 0;
     while (static_cast<int>(path.size()) < max_vertices) {
         ++m_stats.rays;
-        const std::optional<Hit> hit = m_scene.intersect(ray);
+        const std::optional<Hit> hit = m_scene.intersect(ray, m_time);
         if (!hit) {
             // A camera path that escapes ends on the environment, a light vertex at infinity.
             if (mode == Transport::radiance && m_scene.effects.background) {
@@ -326,7 +327,7 @@ bool Bdpt::visible(const Vertex& a, const Vertex& b) {
     const Ray ray = spawn_ray_between(a.p(), a.hit.p_err, a.hit.n, b.p(), b.hit.p_err, b.hit.n);
     if (!(ray.t_max > 0.f)) return false;
     ++m_stats.rays;
-    return !m_scene.occluded(ray);
+    return !m_scene.occluded(ray, -1, m_time);
 }
 
 int Bdpt::max_depth() const {
@@ -339,7 +340,7 @@ void Bdpt::trace_light() {
     m_light.clear();
     const float ul = m_rng.uniform(), ul1 = m_rng.uniform(), ul2 = m_rng.uniform(),
                 ul3 = m_rng.uniform(), ul4 = m_rng.uniform(), ul5 = m_rng.uniform();
-    const std::optional<LightOrigin> o = m_ctx.lights.sample(lambda_light, ul, ul1, ul2, ul3, ul4, ul5);
+    const std::optional<LightOrigin> o = m_ctx.lights.sample(lambda_light, ul, ul1, ul2, ul3, ul4, ul5, m_time);
     if (!o) return;
     Vertex v;
     v.type = VertexType::light;
@@ -458,7 +459,7 @@ SampledSpectrum Bdpt::connect() {
                 SampledSpectrum c = qs.beta * pt.beta * f_cos(pt, qs.dir, m_lambda);
                 if (c.is_zero()) continue;
                 ++m_stats.rays;
-                if (m_scene.occluded(spawn_ray(pt.hit, qs.dir))) continue;
+                if (m_scene.occluded(spawn_ray(pt.hit, qs.dir), -1, m_time)) continue;
                 accumulate(c * mis_weight(1, t), terminated);
                 continue;
             }
@@ -528,11 +529,11 @@ SampledSpectrum Bdpt::run(const Ray& camera_ray, std::vector<Splat>& splats) {
 
 }  // namespace
 
-SampledSpectrum trace_bdpt(const BdptContext& ctx, const Ray& ray, const SampledWavelengths& lambda,
+SampledSpectrum trace_bdpt(const BdptContext& ctx, const Ray& ray, float time, const SampledWavelengths& lambda,
                            Rng& rng, PathStats& stats, std::vector<Splat>& splats) {
     // The vertex arrays of this thread are reused: no allocation per sample once warmed up.
     thread_local std::vector<Vertex> light_storage, camera_storage;
-    Bdpt bdpt(ctx, lambda, rng, stats, light_storage, camera_storage);
+    Bdpt bdpt(ctx, lambda, rng, stats, light_storage, camera_storage, 0.f, time);
     return bdpt.run(ray, splats);
 }
 

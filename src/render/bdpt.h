@@ -100,10 +100,11 @@ SampledSpectrum trace_camera_subpath(const BdptContext& ctx, const MergeContext&
                                      std::uint32_t light_path, const Ray& ray,
                                      const SampledWavelengths& lambda, Rng& rng, PathStats& stats);
 
-/// One bidirectional sample for the camera ray `ray` (at wavelengths `lambda`, not modified).
+/// One bidirectional sample for the camera ray `ray` (at wavelengths `lambda`, not modified) at
+/// shutter time `time` (the light subpath and every connection share it).
 /// Returns what to add to the ray's pixel with Film::add_sample(…, lambda) (strategies that
 /// kept only the hero are folded into its channel) and appends the t = 1 splats.
-SampledSpectrum trace_bdpt(const BdptContext& ctx, const Ray& ray, const SampledWavelengths& lambda,
+SampledSpectrum trace_bdpt(const BdptContext& ctx, const Ray& ray, float time, const SampledWavelengths& lambda,
                            Rng& rng, PathStats& stats, std::vector<Splat>& splats);
 
 }  // namespace spt

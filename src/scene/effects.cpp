@@ -17,6 +17,7 @@ std::string Effects::describe() const {
     add(dispersion, "dispersion");
     add(shading_normals, "smooth shading (vertex normals)");
     add(depth_of_field, "depth of field");
+    add(motion_blur, "motion blur");
     return s.empty() ? "none" : s;
 }
 

@@ -14,6 +14,7 @@ struct Effects {
     bool dispersion = false;         ///< wavelength-dependent index: hero set splits
     bool shading_normals = false;    ///< meshes with vertex normals: smooth shading
     bool depth_of_field = false;     ///< thin-lens camera: rays start on the aperture
+    bool motion_blur = false;        ///< something moves while the shutter is open
 
     std::string describe() const;
 };
