@@ -5,6 +5,7 @@
 #include <chrono>
 #include <condition_variable>
 #include <mutex>
+#include <stdexcept>
 #include <thread>
 #include <vector>
 
@@ -290,6 +291,8 @@ RenderStats render(const Scene& scene, const RenderSettings& settings, Film& fil
                             ? settings.threads
                             : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
     const bool vcm = settings.integrator.kind == IntegratorKind::vcm;
+    // Merges join light and camera subpaths of different samples, so of different times.
+    if (vcm && scene.effects.motion_blur) throw std::invalid_argument("vcm cannot render motion blur");
     const int max_pass_spp = effective_pass_spp(settings);
     // Timed passes start with one sample, then follow the measured pace (a pixel's samples
     // are added in sample order whatever the passes, so the image does not change).
