@@ -181,7 +181,7 @@ private:
         }
         return std::nullopt;
     }
-    bool occluded_few(const Ray& ray, int skip_sphere) const {
+    [[gnu::always_inline]] bool occluded_few(const Ray& ray, int skip_sphere) const {
         bool blocked = false;
         m_sphere_lanes.candidates(ray, [&](int i) {
             if (i != skip_sphere) blocked |= spheres[i].intersect_t_exact(ray) < ray.t_max;
