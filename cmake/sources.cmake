@@ -14,6 +14,7 @@ set(SPT_CORE_SOURCES
     src/geometry/mesh_closure.cpp
     src/io/atomic_file.cpp
     src/io/auto_exposure.cpp
+    src/model/aperture.cpp
     src/model/bsdfs/lobe_mix.cpp
     src/io/embedded_files.cpp
     src/io/exr_writer.cpp
@@ -37,6 +38,7 @@ set(SPT_CORE_SOURCES
     src/scene/effects.cpp
     src/scene/json_checker.cpp
     src/scene/scene.cpp
+    src/scene/scene_motion.cpp
     src/scene/scene_loader.cpp
     src/scene/spectrum_parser.cpp
     src/spectral/chromatic_adaptation.cpp

@@ -3,6 +3,7 @@
 // the middle of writing one), and a resumed render equals a straight one.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <fstream>
@@ -138,6 +139,33 @@ TEST_F(Checkpoint, InterruptedAndResumedEqualsStraightRun) {
     resume.insert(resume.end(), {"--resume", ck});
     ASSERT_EQ(run(resume, dir / "log"), 0) << read_file(dir / "log");
     EXPECT_EQ(read_file(dir / "straight.pfm"), read_file(dir / "resumed.pfm"));
+}
+
+/// Depth of field (the built-in bokeh scene, vcm) and motion blur (motion, bdpt): the lens
+/// points and shutter times come from each sample's own stream (and each light subpath's), so
+/// a resumed render is still the straight one.
+TEST_F(Checkpoint, ResumedThinLensAndMotionBlurRendersEqualStraightRuns) {
+    for (const std::string scene : {"bokeh", "motion"}) {
+        auto args_for = [&](const std::string& out) {
+            std::vector<std::string> args = base_args(out);
+            args.insert(args.begin(), scene);
+            std::replace(args.begin(), args.end(), std::string("24"), std::string("128"));  // --spp
+            return args;
+        };
+        ASSERT_EQ(run(args_for("straight.pfm"), dir / "log"), 0) << read_file(dir / "log");
+        std::vector<std::string> args = args_for("resumed.pfm");
+        const std::string ck = (dir / "state.ckpt").string();
+        fs::remove(ck);
+        args.insert(args.end(), {"--checkpoint", ck, "--checkpoint-interval", "0"});
+        const pid_t pid = spawn(args, dir / "log");
+        std::this_thread::sleep_for(std::chrono::milliseconds(150));
+        kill(pid, SIGINT);
+        wait_exit(pid);
+        ASSERT_TRUE(fs::exists(ck)) << scene;
+        args.insert(args.end(), {"--resume", ck});
+        ASSERT_EQ(run(args, dir / "log"), 0) << read_file(dir / "log");
+        EXPECT_EQ(read_file(dir / "straight.pfm"), read_file(dir / "resumed.pfm")) << scene;
+    }
 }
 
 // kill -9 at random moments while checkpoints are written after every pass (a large film so

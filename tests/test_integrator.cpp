@@ -100,7 +100,7 @@ void expect_exact_furnace_paths(const Scene& scene, int max_depth, double expect
         Rng rng(5, 0, static_cast<std::uint64_t>(s));
         SampledWavelengths lambda = SampledWavelengths::sample(rng.uniform());
         const Vec3 d = normalize(Vec3(rng.uniform() - 0.5f, rng.uniform() - 0.5f, rng.uniform() - 0.5f));
-        const SampledSpectrum L = trace_path(scene, is, {scene.camera.position, d, kInfinity}, lambda, rng, stats);
+        const SampledSpectrum L = trace_path(scene, is, {scene.camera.position, d, kInfinity}, 0.f, lambda, rng, stats);
         for (int k = 0; k < kLambdaCount; ++k)
             ASSERT_NEAR(L[k], expected, kExactRel * expected) << "sample " << s << " wavelength " << k;
     }
@@ -183,7 +183,7 @@ SampledSpectrum trace_vertical(const Scene& scene, float x, float z, float from_
     Rng rng(3, 1, 4);
     SampledWavelengths lambda = SampledWavelengths::sample(0.37f);
     const Ray ray{{x, from_height, z}, {0, -1, 0}, kInfinity};
-    return trace_path(scene, is, ray, lambda, rng, stats);
+    return trace_path(scene, is, ray, 0.f, lambda, rng, stats);
 }
 
 TEST(IntegratorPointLight, PlaneRadianceIsExactAlongRays) {
@@ -230,7 +230,7 @@ TEST(IntegratorPointLight, PlaneRadianceIsScaleInvariant) {
                 PathStats stats;
                 Rng rng(9, 9, 9);
                 SampledWavelengths lambda = SampledWavelengths::sample(0.81f);
-                const SampledSpectrum L = trace_path(scene, is, ray, lambda, rng, stats);
+                const SampledSpectrum L = trace_path(scene, is, ray, 0.f, lambda, rng, stats);
                 for (int k = 0; k < kLambdaCount; ++k)
                     EXPECT_NEAR(L[k], expected, kExactRel * expected)
                         << "s = " << s << ", rho = " << rho << ", dir = (" << dir.x << ", " << dir.y

@@ -12,8 +12,8 @@ struct Ray {
     float t_max = kInfinity;
 };
 
-/// Which shape array a primitive index refers to.
-enum class ShapeKind : unsigned char { sphere, plane, triangle, disk, cylinder, cone };
+/// Which shape array a primitive index refers to (moving: Scene::moving_shapes).
+enum class ShapeKind : unsigned char { sphere, plane, triangle, disk, cylinder, cone, moving };
 
 /// A primitive of the scene: its shape kind and its index in that kind's array, in 32 bits
 /// (the BVH's primitive lists hold these too).

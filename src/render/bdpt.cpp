@@ -59,9 +59,9 @@ class Bdpt {
 public:
     /// eta: merging's density relative to a connection (MergeContext::eta); 0 without merging.
     Bdpt(const BdptContext& ctx, const SampledWavelengths& lambda, Rng& rng, PathStats& stats,
-         std::vector<Vertex>& light, std::vector<Vertex>& camera, float eta = 0.f)
+         std::vector<Vertex>& light, std::vector<Vertex>& camera, float eta = 0.f, float time = 0.f)
         : m_ctx(ctx), m_scene(ctx.scene), m_lambda(lambda), m_rng(rng), m_stats(stats),
-          m_hero(lambda.lambda[0]), m_eta(eta), m_light(light), m_camera(camera) {}
+          m_hero(lambda.lambda[0]), m_eta(eta), m_time(time), m_light(light), m_camera(camera) {}
 
     /// One bidirectional sample: both subpaths, every strategy.
     SampledSpectrum run(const Ray& ray, std::vector<Splat>& splats);
@@ -107,6 +107,7 @@ private:
     PathStats& m_stats;
     float m_hero;
     float m_eta;
+    float m_time;  ///< of the sample: both subpaths and every connection see the scene then
     std::vector<Vertex>& m_light;   ///< light subpath: the origin, then surface vertices
     std::vector<Vertex>& m_camera;  ///< camera subpath: the pinhole, surface vertices, and the
                                     ///< environment when the last ray escaped
@@ -123,7 +124,7 @@ void Bdpt::random_walk(Ray ray, SampledSpectrum beta, float pdf_dir, int max_ver
     int bounces = 0;
     while (static_cast<int>(path.size()) < max_vertices) {
         ++m_stats.rays;
-        const std::optional<Hit> hit = m_scene.intersect(ray);
+        const std::optional<Hit> hit = m_scene.intersect(ray, m_time);
         if (!hit) {
             // A camera path that escapes ends on the environment, a light vertex at infinity.
             if (mode == Transport::radiance && m_scene.effects.background) {
@@ -196,7 +197,7 @@ float Bdpt::pdf(const Vertex& v, const Vertex* prev, const Vertex& next) const {
     const Vec3 wn = direction(v, next);
     if (v.type == VertexType::camera) {
         float x, y;
-        if (!m_ctx.camera.raster_position(wn, x, y)) return 0.f;
+        if (!m_ctx.camera.raster_position(v.p(), wn, x, y)) return 0.f;
         return convert_density(m_ctx.camera.direction_pdf(dot(wn, m_ctx.camera.forward())), v, next);
     }
     const Vec3 wp = direction(v, *prev);
@@ -326,7 +327,7 @@ bool Bdpt::visible(const Vertex& a, const Vertex& b) {
     const Ray ray = spawn_ray_between(a.p(), a.hit.p_err, a.hit.n, b.p(), b.hit.p_err, b.hit.n);
     if (!(ray.t_max > 0.f)) return false;
     ++m_stats.rays;
-    return !m_scene.occluded(ray);
+    return !m_scene.occluded(ray, -1, m_time);
 }
 
 int Bdpt::max_depth() const {
@@ -339,7 +340,7 @@ void Bdpt::trace_light() {
     m_light.clear();
     const float ul = m_rng.uniform(), ul1 = m_rng.uniform(), ul2 = m_rng.uniform(),
                 ul3 = m_rng.uniform(), ul4 = m_rng.uniform(), ul5 = m_rng.uniform();
-    const std::optional<LightOrigin> o = m_ctx.lights.sample(lambda_light, ul, ul1, ul2, ul3, ul4, ul5);
+    const std::optional<LightOrigin> o = m_ctx.lights.sample(lambda_light, ul, ul1, ul2, ul3, ul4, ul5, m_time);
     if (!o) return;
     Vertex v;
     v.type = VertexType::light;
@@ -374,7 +375,7 @@ void Bdpt::trace_camera(const Ray* camera_ray) {
     m_camera.clear();
     Vertex v;
     v.type = VertexType::camera;
-    v.hit.p = m_ctx.camera.origin();
+    v.hit.p = camera_ray ? camera_ray->o : m_ctx.camera.origin();  // the lens point of a thin lens
     v.beta = SampledSpectrum(1.f);
     m_camera.push_back(v);
     if (!camera_ray) return;
@@ -384,18 +385,26 @@ void Bdpt::trace_camera(const Ray* camera_ray) {
 }
 
 void Bdpt::splat_light_tracing(std::vector<Splat>& splats) {
-    const Vertex& pt = m_camera[0];
+    Vertex& pt = m_camera[0];
+    const Vec3 camera_p = pt.p();  // restored at the end: a thin lens moves pt per splat
+    const bool lens = m_ctx.camera.thin_lens();
     const int n_light = static_cast<int>(m_light.size());
     for (int s = 2; s <= n_light && s - 1 <= max_depth(); ++s) {
         const Vertex& qs = m_light[s - 1];
         if (!connectible(qs)) continue;  // a sampled specular lobe does not matter here
-        // Light vertex seen by the pinhole: a splat on the pixel it projects to.
+        // A thin lens: a lens point of its own per splat, uniform as the camera rays' (so
+        // that its density cancels in the MIS ratios, as in pbrt-v3's Sample_Wi).
+        if (lens) {
+            const float u1 = m_rng.uniform();
+            pt.hit.p = m_ctx.camera.lens_point(u1, m_rng.uniform());
+        }
+        // Light vertex seen by the pinhole (the lens point): a splat on the pixel it projects to.
         const Vec3 to_camera = pt.p() - qs.p();
         const float dist2 = length_squared(to_camera);
         if (!(dist2 > 0.f)) continue;
         const Vec3 w_cam = to_camera / std::sqrt(dist2);  // from qs to the camera
         float px, py;
-        if (!m_ctx.camera.raster_position(-w_cam, px, py)) continue;
+        if (!m_ctx.camera.raster_position(pt.p(), -w_cam, px, py)) continue;
         const float cos_cam = dot(-w_cam, m_ctx.camera.forward());
         SampledSpectrum c = qs.beta * (m_ctx.camera.importance(cos_cam) * cos_cam / dist2);
         if (qs.type == VertexType::surface) c *= f_cos(qs, w_cam, m_lambda) * shading_correction(qs.hit, qs.wo, w_cam);
@@ -408,6 +417,7 @@ void Bdpt::splat_light_tracing(std::vector<Splat>& splats) {
         const auto pixel = static_cast<std::uint32_t>(static_cast<int>(py) * m_ctx.width + static_cast<int>(px));
         splats.push_back({pixel, static_cast<float>(xyz.x), static_cast<float>(xyz.y), static_cast<float>(xyz.z)});
     }
+    pt.hit.p = camera_p;
 }
 
 void Bdpt::accumulate(const SampledSpectrum& c, bool terminated) {
@@ -449,7 +459,7 @@ SampledSpectrum Bdpt::connect() {
                 SampledSpectrum c = qs.beta * pt.beta * f_cos(pt, qs.dir, m_lambda);
                 if (c.is_zero()) continue;
                 ++m_stats.rays;
-                if (m_scene.occluded(spawn_ray(pt.hit, qs.dir))) continue;
+                if (m_scene.occluded(spawn_ray(pt.hit, qs.dir), -1, m_time)) continue;
                 accumulate(c * mis_weight(1, t), terminated);
                 continue;
             }
@@ -519,11 +529,11 @@ SampledSpectrum Bdpt::run(const Ray& camera_ray, std::vector<Splat>& splats) {
 
 }  // namespace
 
-SampledSpectrum trace_bdpt(const BdptContext& ctx, const Ray& ray, const SampledWavelengths& lambda,
+SampledSpectrum trace_bdpt(const BdptContext& ctx, const Ray& ray, float time, const SampledWavelengths& lambda,
                            Rng& rng, PathStats& stats, std::vector<Splat>& splats) {
     // The vertex arrays of this thread are reused: no allocation per sample once warmed up.
     thread_local std::vector<Vertex> light_storage, camera_storage;
-    Bdpt bdpt(ctx, lambda, rng, stats, light_storage, camera_storage);
+    Bdpt bdpt(ctx, lambda, rng, stats, light_storage, camera_storage, 0.f, time);
     return bdpt.run(ray, splats);
 }
 

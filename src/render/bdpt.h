@@ -8,7 +8,8 @@
 // specular scattering and point lights are flagged delta and skipped as connection points.
 //
 // Strategies: s = 0 (the camera path hits an emitter), s = 1 (connect to the light's origin),
-// t = 1 (connect a light vertex to the pinhole: a splat on another pixel) and s, t ≥ 2.
+// t = 1 (connect a light vertex to the pinhole, or to a lens point it samples for a thin
+// lens: a splat on another pixel) and s, t ≥ 2.
 // Emitting infinite planes cannot be sampled: they are reached by s = 0 only, with MIS weight
 // 1 (see light_sampling.h). The constant environment is a light like the others, as a vertex
 // at infinity (pbrt's infinite lights): a camera path that escapes ends on it (s = 0), s = 1
@@ -99,10 +100,11 @@ SampledSpectrum trace_camera_subpath(const BdptContext& ctx, const MergeContext&
                                      std::uint32_t light_path, const Ray& ray,
                                      const SampledWavelengths& lambda, Rng& rng, PathStats& stats);
 
-/// One bidirectional sample for the camera ray `ray` (at wavelengths `lambda`, not modified).
+/// One bidirectional sample for the camera ray `ray` (at wavelengths `lambda`, not modified) at
+/// shutter time `time` (the light subpath and every connection share it).
 /// Returns what to add to the ray's pixel with Film::add_sample(…, lambda) (strategies that
 /// kept only the hero are folded into its channel) and appends the t = 1 splats.
-SampledSpectrum trace_bdpt(const BdptContext& ctx, const Ray& ray, const SampledWavelengths& lambda,
+SampledSpectrum trace_bdpt(const BdptContext& ctx, const Ray& ray, float time, const SampledWavelengths& lambda,
                            Rng& rng, PathStats& stats, std::vector<Splat>& splats);
 
 }  // namespace spt

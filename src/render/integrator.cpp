@@ -21,19 +21,20 @@ inline LightSampleContext light_context(const Hit& hit, const Material& mat, con
 /// Out of line: scenes without point lights never call it, and inlined it changes the
 /// register allocation of the whole path loop (about 3 % more instructions per path).
 [[gnu::noinline]] SampledSpectrum sample_point_lights(const Scene& scene, const Material& mat, const Hit& hit,
-                                                      const Vec3& wo, const SampledWavelengths& lambda,
+                                                      const Vec3& wo, const SampledWavelengths& lambda, float time,
                                                       PathStats& stats) {
     SampledSpectrum Ld(0.f);
     for (int i : scene.point_light_indices) {
         const PointLight& light = *std::get_if<PointLight>(&scene.lights[i]);
-        const Vec3 to_light = light.position - hit.p;
+        const Vec3 position = light.position_at(time);
+        const Vec3 to_light = position - hit.p;
         const float dist2 = length_squared(to_light);
         if (!(dist2 > 0.f)) continue;  // light exactly on the surface: no defined direction
         const Vec3 wi = to_light / std::sqrt(dist2);
         const SampledSpectrum f_cos = bsdf_eval(mat.bsdf, wo, wi, hit.ns, lambda, TransportMode::radiance);
         if (f_cos.is_zero()) continue;
         ++stats.rays;
-        if (scene.occluded(spawn_ray_to(hit, light.position))) continue;
+        if (scene.occluded(spawn_ray_to(hit, position), -1, time)) continue;
         Ld += f_cos * light.intensity.sample(lambda) / dist2;
     }
     return Ld;
@@ -45,8 +46,8 @@ inline LightSampleContext light_context(const Hit& hit, const Material& mat, con
 /// 13 % of the time per path on cornell-sphere; the path loop, which calls it, stays small.
 [[gnu::noinline, gnu::flatten]] SampledSpectrum sample_area_light(
     const Scene& scene, const LightDistribution& choices, const Material& mat, const Hit& hit,
-    const LightSampleContext& ctx, const Vec3& wo, const SampledWavelengths& lambda, float u_light, float u1,
-    float u2, bool mis, PathStats& stats) {
+    const LightSampleContext& ctx, const Vec3& wo, const SampledWavelengths& lambda, float time, float u_light,
+    float u1, float u2, bool mis, PathStats& stats) {
     float choice = 0.f;
     const int index = choices.sample(u_light, choice);
     const std::optional<LightSample> ls = light_sample_li(scene.lights[index], ctx, lambda, u1, u2);
@@ -69,7 +70,7 @@ inline LightSampleContext light_context(const Hit& hit, const Material& mat, con
     } else {
         shadow = spawn_ray_between(hit.p, hit.p_err, hit.n, ls->p, ls->p_err, ls->n);
     }
-    if (scene.occluded(shadow, skip_sphere)) return SampledSpectrum(0.f);
+    if (scene.occluded(shadow, skip_sphere, time)) return SampledSpectrum(0.f);
     const float pdf_light = choice * ls->pdf;
     if (!mis) return f_cos * ls->L / pdf_light;
     const float pdf_bsdf = bsdf_pdf(mat.bsdf, wo, ls->wi, hit.ns, lambda.lambda[0]);
@@ -95,7 +96,7 @@ inline LightSampleContext light_context(const Hit& hit, const Material& mat, con
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wattributes"
 [[gnu::always_inline]] SampledSpectrum trace_path(const Scene& scene, const IntegratorSettings& settings, Ray ray,
-                           SampledWavelengths& lambda, Rng& rng, PathStats& stats) {
+                                                  float time, SampledWavelengths& lambda, Rng& rng, PathStats& stats) {
     SampledSpectrum L(0.f), beta(1.f);
     float eta_scale = 1.f;
     const bool point_nee = scene.effects.point_lights;
@@ -113,7 +114,7 @@ inline LightSampleContext light_context(const Hit& hit, const Material& mat, con
     for (int depth = 0;; ++depth) {
         // ---- Find the next vertex; escaping rays see the environment ----
         ++stats.rays;
-        const std::optional<Hit> hit = scene.intersect(ray);
+        const std::optional<Hit> hit = scene.intersect(ray, time);
         if (!hit) {
             if (const EnvironmentLight* env = scene.environment()) {
                 const float w = mis_emission ? emission_weight(scene, choices, scene.environment_index, prev_ctx,
@@ -137,12 +138,12 @@ inline LightSampleContext light_context(const Hit& hit, const Material& mat, con
         // ---- Next-event estimation at vertices with a non-delta lobe: every point light,
         // and one other light chosen by power ----
         const bool non_delta = mat.has_non_delta();
-        if (point_nee && non_delta) L += beta * sample_point_lights(scene, mat, *hit, wo, lambda, stats);
+        if (point_nee && non_delta) L += beta * sample_point_lights(scene, mat, *hit, wo, lambda, time, stats);
         LightSampleContext ctx;
         if (area_nee && non_delta) {
             ctx = light_context(*hit, mat, wo);
             const float ul = rng.uniform(), ul1 = rng.uniform(), ul2 = rng.uniform();
-            L += beta * sample_area_light(scene, choices, mat, *hit, ctx, wo, lambda, ul, ul1, ul2,
+            L += beta * sample_area_light(scene, choices, mat, *hit, ctx, wo, lambda, time, ul, ul1, ul2,
                                           settings.light_sampling == LightSampling::mis, stats);
         }
 

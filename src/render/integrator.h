@@ -39,8 +39,9 @@ struct PathStats {
     std::uint64_t rays = 0;  ///< every ray cast: camera, bounce and shadow rays
 };
 
-/// Radiance arriving along `ray` at the path's wavelengths (may terminate the companions).
-SampledSpectrum trace_path(const Scene& scene, const IntegratorSettings& settings, Ray ray,
+/// Radiance arriving along `ray` at the path's wavelengths (may terminate the companions),
+/// the scene as it stands at shutter time `time` (every ray of the path sees that time).
+SampledSpectrum trace_path(const Scene& scene, const IntegratorSettings& settings, Ray ray, float time,
                            SampledWavelengths& lambda, Rng& rng, PathStats& stats);
 
 }  // namespace spt

@@ -17,7 +17,7 @@ LightSampler::LightSampler(const Scene& scene)
 }
 
 std::optional<LightOrigin> LightSampler::sample(const SampledWavelengths& lambda, float u_light, float u1,
-                                                float u2, float u_side, float u3, float u4) const {
+                                                float u2, float u_side, float u3, float u4, float time) const {
     if (m_choice.empty()) return std::nullopt;
     float choice = 0.f;
     const int index = m_choice.sample(u_light, choice);
@@ -41,6 +41,7 @@ std::optional<LightOrigin> LightSampler::sample(const SampledWavelengths& lambda
     }
     if (const PointLight* point = std::get_if<PointLight>(&light)) {
         LightOrigin o = point->sample_le(lambda, u1, u2);
+        o.p = point->position_at(time);
         o.pdf_pos *= choice;
         return o;
     }

@@ -58,9 +58,10 @@ public:
     bool empty() const { return m_choice.empty(); }
     bool has_environment() const { return m_environment_choice > 0.f; }
 
-    /// Samples a light ∝ power, a point on it and a direction; nullopt when there is none.
+    /// Samples a light ∝ power, a point on it and a direction (a moving point light where it
+    /// is at `time`); nullopt when there is none.
     std::optional<LightOrigin> sample(const SampledWavelengths& lambda, float u_light, float u1,
-                                      float u2, float u_side, float u3, float u4) const;
+                                      float u2, float u_side, float u3, float u4, float time = 0.f) const;
 
     /// Area density (choice included) with which sample() would produce this emitting hit
     /// point; 0 for emitters that cannot be sampled (infinite planes) and non-emitters.

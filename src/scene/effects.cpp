@@ -16,6 +16,8 @@ std::string Effects::describe() const {
     add(transmission, "dielectric transmission");
     add(dispersion, "dispersion");
     add(shading_normals, "smooth shading (vertex normals)");
+    add(depth_of_field, "depth of field");
+    add(motion_blur, "motion blur");
     return s.empty() ? "none" : s;
 }
 

@@ -13,6 +13,8 @@ struct Effects {
     bool transmission = false;       ///< Fresnel dielectrics
     bool dispersion = false;         ///< wavelength-dependent index: hero set splits
     bool shading_normals = false;    ///< meshes with vertex normals: smooth shading
+    bool depth_of_field = false;     ///< thin-lens camera: rays start on the aperture
+    bool motion_blur = false;        ///< something moves while the shutter is open
 
     std::string describe() const;
 };

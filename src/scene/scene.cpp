@@ -63,7 +63,7 @@ int Scene::add_material(Material m) {
 }
 
 void Scene::add_point_light(const Vec3& position, Spectrum intensity) {
-    lights.emplace_back(PointLight{position, std::move(intensity)});
+    lights.emplace_back(PointLight{position, std::move(intensity), {}});
 }
 
 void Scene::set_background(Spectrum radiance) {
@@ -88,6 +88,7 @@ int Scene::add_emitter(ShapeKind kind, Spectrum radiance) {
         case ShapeKind::disk: lights.emplace_back(QuadricLight{Disk{}, std::move(radiance)}); break;
         case ShapeKind::cylinder: lights.emplace_back(QuadricLight{Cylinder{}, std::move(radiance)}); break;
         case ShapeKind::cone: lights.emplace_back(QuadricLight{Cone{}, std::move(radiance)}); break;
+        case ShapeKind::moving: throw SceneError("a moving shape cannot emit light");
     }
     return static_cast<int>(lights.size()) - 1;
 }
@@ -109,6 +110,7 @@ void Scene::surface_uv(const Hit& hit, float& u, float& v) const {
         case ShapeKind::disk: return disks[i].uv(hit.p, u, v);
         case ShapeKind::cylinder: return cylinders[i].uv(hit.p, u, v);
         case ShapeKind::cone: return cones[i].uv(hit.p, u, v);
+        case ShapeKind::moving: u = v = 0.f; return;  // its rest frame at the hit's time is gone
         case ShapeKind::triangle: break;
     }
     const Triangle& t = triangles[i];
@@ -177,10 +179,26 @@ void Scene::finalize() {
         require(index >= 0 && index < static_cast<int>(materials.size()),
                 who + " refers to a material that does not exist");
     };
-    for (const Sphere& s : spheres) {
+    auto check_sphere = [&](const Sphere& s) {
         require(finite(s.center), "sphere centre must be finite");
         require(std::isfinite(s.radius) && s.radius > 0.f, "sphere radius must be > 0 and finite");
         check_material_index(s.material, "a sphere");
+    };
+    auto check_triangle = [&](const Triangle& t) {
+        require(finite(t.p0) && finite(t.p1) && finite(t.p2), "triangle vertices must be finite");
+        require(!t.is_degenerate(), "triangle has zero area (collinear or repeated vertices)");
+        require(t.attributes < static_cast<int>(triangle_attributes.size()),
+                "a triangle refers to vertex attributes that do not exist");
+        check_material_index(t.material, "a triangle");
+    };
+    for (const Sphere& s : spheres) check_sphere(s);
+    for (const Triangle& t : triangles) check_triangle(t);
+    for (MovingShape& m : moving_shapes) {
+        for (const Sphere& s : m.spheres) check_sphere(s), require(s.light < 0, "a moving shape cannot emit light");
+        for (const Triangle& t : m.triangles) check_triangle(t), require(t.light < 0, "a moving shape cannot emit light");
+        for (std::size_t k = 1; k < m.motion.keys.size(); ++k)
+            require(m.motion.keys[k].time > m.motion.keys[k - 1].time, "motion keyframe times must increase");
+        m.finish();
     }
     for (Plane& p : planes) p.set_frame();
     for (const Plane& p : planes) {
@@ -210,13 +228,6 @@ void Scene::finalize() {
         check_axis(c.axis, "cone axis"), check_size(c.radius, "cone radius"), check_size(c.height, "cone height");
         check_material_index(c.material, "a cone");
     }
-    for (const Triangle& t : triangles) {
-        require(finite(t.p0) && finite(t.p1) && finite(t.p2), "triangle vertices must be finite");
-        require(!t.is_degenerate(), "triangle has zero area (collinear or repeated vertices)");
-        require(t.attributes < static_cast<int>(triangle_attributes.size()),
-                "a triangle refers to vertex attributes that do not exist");
-        check_material_index(t.material, "a triangle");
-    }
     require(width > 0 && height > 0 && spp > 0, "image size and spp must be positive");
     require(finite(camera.position) && finite(camera.look_at) && finite(camera.up),
             "camera vectors must be finite");
@@ -224,6 +235,15 @@ void Scene::finalize() {
             "camera up vector must not be parallel to the viewing direction");
     require(camera.vfov_degrees > 0.f && camera.vfov_degrees < 180.f,
             "camera field of view must be in (0, 180) degrees");
+    const Aperture& aperture = camera.aperture;
+    require(std::isfinite(aperture.radius) && aperture.radius >= 0.f, "camera aperture radius must be finite and >= 0");
+    require(aperture.radius == 0.f || (std::isfinite(camera.focus_distance) && camera.focus_distance > 0.f),
+            "camera focus distance must be finite and > 0");
+    require(aperture.blades == 0 || (aperture.blades >= 3 && aperture.blades <= 64),
+            "camera aperture blades must be 0 (a disc) or 3 to 64");
+    require(std::isfinite(camera.shutter_open) && std::isfinite(camera.shutter_close) &&
+                camera.shutter_open <= camera.shutter_close,
+            "camera shutter must be finite with open <= close");
 
     // Split planes for intersection: axis-aligned ones take the fast path.
     m_axis_planes.clear();
@@ -248,6 +268,7 @@ void Scene::finalize() {
     if (spheres.size() + triangles.size() > kBvhThreshold || quadrics) m_bvh.build(bvh_shapes());
     bvh_build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - bvh_start).count();
     m_use_bvh = !m_bvh.empty();
+    m_out_of_line = m_use_bvh || !moving_shapes.empty();
     m_sphere_lanes.build(m_use_bvh ? std::vector<Sphere>{} : spheres);
     std::vector<Sphere> bounds;
     if (!m_use_bvh)
@@ -260,17 +281,25 @@ void Scene::finalize() {
     effects = Effects{};
     effects.point_lights = !point_light_indices.empty();
     effects.background = environment_index >= 0;
+    effects.depth_of_field = camera.aperture.radius > 0.f;
+    // Motion only blurs when the shutter stays open while something moves.
+    bool moves = !moving_shapes.empty();
+    for (const Light& l : lights)
+        if (const PointLight* p = std::get_if<PointLight>(&l)) moves |= !p->motion.is_static();
+    effects.motion_blur = moves && camera.shutter_close > camera.shutter_open;
     for (const Light& l : lights)
         effects.emissive_surfaces |=
             !std::holds_alternative<PointLight>(l) && !std::holds_alternative<EnvironmentLight>(l);
-    for_each_shape_array([&](const auto& shapes) {
+    auto material_effects = [&](const auto& shapes) {
         for (const auto& shape : shapes) {
             const Material& m = materials[shape.material];
             effects.mirror |= m.flags.has(BsdfFlags::delta);
             effects.transmission |= m.flags.has(BsdfFlags::transmission);
             effects.dispersion |= m.flags.has(BsdfFlags::dispersive);
         }
-    });
+    };
+    for_each_shape_array(material_effects);
+    for (const MovingShape& m : moving_shapes) material_effects(m.spheres), material_effects(m.triangles);
     for (const Triangle& t : triangles)
         effects.shading_normals |=
             t.attributes >= 0 && triangle_attributes[static_cast<std::size_t>(t.attributes)].has_normals;
@@ -286,12 +315,18 @@ void Scene::finalize_lights() {
         box.expand(s.center + r);
     }
     for (const Triangle& t : triangles) box.expand(t.p0), box.expand(t.p1), box.expand(t.p2);
+    for (const MovingShape& m : moving_shapes) box.expand(m.swept);
     for (const Disk& d : disks) box.expand(bounds(d));
     for (const Cylinder& c : cylinders) box.expand(bounds(c));
     for (const Cone& c : cones) box.expand(bounds(c));
     for (const Light& l : lights)
-        if (const PointLight* p = std::get_if<PointLight>(&l)) box.expand(p->position);
-    box.expand(camera.position);
+        if (const PointLight* p = std::get_if<PointLight>(&l)) {
+            box.expand(p->position);
+            for (const Keyframe& k : p->motion.keys) box.expand(p->motion.at(k.time).point(p->position));
+        }
+    const Vec3 lens(camera.aperture.radius, camera.aperture.radius, camera.aperture.radius);
+    box.expand(camera.position - lens);  // the whole lens (the pinhole's point when 0)
+    box.expand(camera.position + lens);
     bounds_center = box.centroid();
     bounds_radius = 0.5f * length(box.hi - box.lo);
     if (!(bounds_radius > 0.f)) bounds_radius = 1.f;  // a lone camera: any radius is correct

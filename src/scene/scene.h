@@ -10,6 +10,7 @@
 #include "geometry/cone.h"
 #include "geometry/cylinder.h"
 #include "geometry/disk.h"
+#include "geometry/moving_shape.h"
 #include "geometry/plane.h"
 #include "geometry/sphere.h"
 #include "geometry/sphere_lanes.h"
@@ -69,6 +70,9 @@ struct Scene {
     /// index here) and the environment. finalize() copies each emitting shape's geometry
     /// into its light, so shapes may change until then.
     std::vector<Light> lights;
+    /// Shapes that move while the shutter is open (motion blur), tested after the static
+    /// ones, each behind the box it sweeps.
+    std::vector<MovingShape> moving_shapes;
 
     Effects effects;  ///< filled by finalize()
 
@@ -120,17 +124,44 @@ struct Scene {
     bool uses_bvh() const { return m_use_bvh; }
     const Bvh& bvh() const { return m_bvh; }
 
-    /// Nearest surface along the ray, t in (0, ray.t_max). Candidates are compared by distance
-    /// only; the hit record (the costly part) is built once, for the winner.
-    [[gnu::always_inline]] std::optional<Hit> intersect(const Ray& ray) const {
+    /// Nearest surface along the ray, t in (0, ray.t_max), with the moving shapes where they
+    /// are at `time` (static scenes ignore it). Candidates are compared by distance only; the
+    /// hit record (the costly part) is built once, for the winner.
+    [[gnu::always_inline]] std::optional<Hit> intersect(const Ray& ray, float time = 0.f) const {
         double t_best = ray.t_max;
         int best_plane = -1;
-        const Sphere* best_sphere = nullptr;
         m_axis_planes.nearest(ray, t_best, best_plane);
         for (int i : m_general_planes)
             if (const double t = planes[i].intersect_t(ray); t < t_best) t_best = t, best_plane = i;
-        // Scenes with a BVH leave here; the hint keeps the small-scene path inlined whole.
-        if (m_use_bvh) [[unlikely]] return intersect_bvh(ray, t_best, best_plane);
+        // Scenes with a BVH or moving shapes leave here; the hint keeps the small-scene path
+        // inlined whole.
+        if (m_out_of_line) [[unlikely]] return intersect_out_of_line(ray, t_best, best_plane, time);
+        return intersect_few(ray, t_best, best_plane);
+    }
+
+    /// True if anything blocks the ray before ray.t_max (shadow rays; glass is opaque to them),
+    /// the moving shapes where they are at `time`. Sphere `skip_sphere` is not tested in
+    /// scenes without a BVH (a light's own sphere that cannot occlude the point sampled on it:
+    /// the exact test there was 9 % of the time per path on cornell-sphere); with a BVH every
+    /// shape is tested.
+    bool occluded(const Ray& ray, int skip_sphere = -1, float time = 0.f) const {
+        if (m_axis_planes.any_hit(ray)) return true;
+        for (int i : m_general_planes)
+            if (planes[i].intersect_t(ray) < ray.t_max) return true;
+        if (m_out_of_line) [[unlikely]] return occluded_out_of_line(ray, skip_sphere, time);
+        return occluded_few(ray, skip_sphere);
+    }
+
+    /// Makes the spheres from index `first_sphere` on and the triangles from `first_triangle`
+    /// on (the shapes the loader just added) one moving shape with `motion`: they leave the
+    /// static arrays. Call before finalize().
+    void make_moving(std::size_t first_sphere, std::size_t first_triangle, RigidMotion motion);
+
+private:
+    /// The rest of intersect() without a BVH and moving shapes: spheres and triangles in
+    /// lanes (a Cornell box's few), given the nearest plane so far.
+    [[gnu::always_inline]] std::optional<Hit> intersect_few(const Ray& ray, double t_best, int best_plane) const {
+        const Sphere* best_sphere = nullptr;
         m_sphere_lanes.candidates(ray, [&](int i) {
             if (const double t = spheres[i].intersect_t_exact(ray); t < t_best) t_best = t, best_sphere = &spheres[i];
         });
@@ -150,16 +181,7 @@ struct Scene {
         }
         return std::nullopt;
     }
-
-    /// True if anything blocks the ray before ray.t_max (shadow rays; glass is opaque to them).
-    /// Sphere `skip_sphere` is not tested in scenes without a BVH (a light's own sphere that
-    /// cannot occlude the point sampled on it: the exact test there was 9 % of the time per
-    /// path on cornell-sphere); with a BVH every shape is tested.
-    bool occluded(const Ray& ray, int skip_sphere = -1) const {
-        if (m_axis_planes.any_hit(ray)) return true;
-        for (int i : m_general_planes)
-            if (planes[i].intersect_t(ray) < ray.t_max) return true;
-        if (m_use_bvh) [[unlikely]] return occluded_bvh(ray);
+    [[gnu::always_inline]] bool occluded_few(const Ray& ray, int skip_sphere) const {
         bool blocked = false;
         m_sphere_lanes.candidates(ray, [&](int i) {
             if (i != skip_sphere) blocked |= spheres[i].intersect_t_exact(ray) < ray.t_max;
@@ -168,8 +190,12 @@ struct Scene {
         m_triangle_lanes.candidates(ray, [&](int i) { blocked |= triangles[i].intersect(ray, ray.t_max).has_value(); });
         return blocked;
     }
-
-private:
+    /// intersect() and occluded() for scenes with a BVH or moving shapes (scene_motion.cpp).
+    [[gnu::noinline]] std::optional<Hit> intersect_out_of_line(const Ray& ray, double t_best, int best_plane,
+                                                               float time) const;
+    [[gnu::noinline]] bool occluded_out_of_line(const Ray& ray, int skip_sphere, float time) const;
+    /// Moving shape i at `time`: its nearest hit before t_max, in world space.
+    std::optional<Hit> intersect_moving(std::size_t i, const Ray& ray, float time, double t_max) const;
     BvhShapes bvh_shapes() const { return {spheres, triangles, disks, cylinders, cones}; }
     /// Calls f with each array of shapes (every shape has a material and a light).
     template <typename F>
@@ -210,6 +236,7 @@ private:
     std::vector<signed char> m_plane_axis;  ///< per plane: its normal's axis, −1 if tilted
     Bvh m_bvh;                             ///< over spheres and triangles; empty below the threshold
     bool m_use_bvh = false;                ///< !m_bvh.empty(), in one byte for the hot path
+    bool m_out_of_line = false;            ///< m_use_bvh or moving shapes
 };
 
 }  // namespace spt

@@ -74,7 +74,9 @@ private:
 
     void camera(const JsonValue& v) {
         object(v, "camera");
-        check_keys(v, "camera", {"position", "look_at", "up", "vfov_degrees"});
+        check_keys(v, "camera", {"position", "look_at", "up", "vfov_degrees", "aperture_radius", "f_number",
+                                 "focal_length", "focus_distance", "focus_point", "blades", "rotation_degrees",
+                                 "shutter"});
         CameraSpec& c = m_scene.camera;
         c.position = point(required(v, "position", "camera"), "camera position");
         c.look_at = point(required(v, "look_at", "camera"), "camera look_at");
@@ -85,6 +87,91 @@ private:
         if (!(length(forward) > 0.f)) fail(v.pos(), "camera look_at equals its position; expected a point to look at");
         if (!(length(cross(normalize(forward), normalize(c.up))) > 1e-6f))
             fail(v.pos(), "camera up is parallel to the viewing direction; expected a different up vector");
+        thin_lens(v);
+        if (const JsonValue* shutter = v.find("shutter")) {
+            const std::vector<double> t = numbers(*shutter, "camera shutter", 2);
+            for (double x : t)
+                if (!(std::fabs(x) <= 1e9)) fail(shutter->pos(), "camera shutter time " + number_text(x) + " is out of range; expected times within ±1e9");
+            if (t[0] > t[1]) fail(shutter->pos(), "camera shutter closes before it opens; expected [open, close] with open <= close");
+            c.shutter_open = static_cast<float>(t[0]);
+            c.shutter_close = static_cast<float>(t[1]);
+        }
+    }
+
+    /// "motion": {"keyframes": [{"time": t, "translate": [x, y, z], "rotate": {"axis":
+    /// [x, y, z], "degrees": d}}, ...], "pivot": [x, y, z]}: at least two keyframes in
+    /// increasing time; translate and rotate default to none; the pivot (the centre of the
+    /// rotations) defaults to `default_pivot`.
+    RigidMotion motion(const JsonValue& v, const std::string& what, const Vec3& default_pivot) const {
+        const std::string who = what + " motion";
+        object(v, who);
+        check_keys(v, who, {"keyframes", "pivot"});
+        RigidMotion m;
+        m.pivot = v.find("pivot") ? point(*v.find("pivot"), who + " pivot") : default_pivot;
+        const JsonValue& keys = required(v, "keyframes", who);
+        if (!keys.is_array() || keys.items().size() < 2)
+            fail(keys.pos(), who + " keyframes is not an array of at least 2 keyframes; expected [{\"time\": 0, ...}, {\"time\": 1, ...}]");
+        for (const JsonValue& k : keys.items()) {
+            const std::string key_what = who + " keyframe";
+            object(k, key_what);
+            check_keys(k, key_what, {"time", "translate", "rotate"});
+            Keyframe key;
+            key.time = static_cast<float>(number_in(required(k, "time", key_what), key_what + " time", -1e9, 1e9));
+            if (!m.keys.empty() && !(key.time > m.keys.back().time))
+                fail(k.find("time")->pos(), key_what + " time " + number_text(key.time) + " does not follow " +
+                                                number_text(m.keys.back().time) + "; expected increasing times");
+            if (const JsonValue* t = k.find("translate")) key.translation = point(*t, key_what + " translate");
+            if (const JsonValue* r = k.find("rotate")) {
+                const std::string rot = key_what + " rotate";
+                object(*r, rot);
+                check_keys(*r, rot, {"axis", "degrees"});
+                const Vec3 axis = normalize(direction(required(*r, "axis", rot), rot + " axis"));
+                const double degrees = number_in(required(*r, "degrees", rot), rot + " degrees", -1e6, 1e6);
+                key.rotation = Quaternion::axis_angle(axis, static_cast<float>(degrees * kPiDouble / 180.0));
+            }
+            m.keys.push_back(key);
+        }
+        return m;
+    }
+
+    /// The camera's aperture and focus (depth of field); none of the keys: the pinhole.
+    void thin_lens(const JsonValue& v) {
+        CameraSpec& c = m_scene.camera;
+        const JsonValue* radius = v.find("aperture_radius");
+        const JsonValue* f_number = v.find("f_number");
+        const JsonValue* focal_length = v.find("focal_length");
+        if (radius && f_number) fail(f_number->pos(), "camera has both aperture_radius and f_number; expected one of them");
+        if (f_number && !focal_length)
+            fail(f_number->pos(), "camera f_number needs \"focal_length\" (scene units); expected both");
+        if (focal_length && !f_number)
+            fail(focal_length->pos(), "camera focal_length only goes with f_number; expected \"f_number\" too");
+        if (radius) c.aperture.radius = static_cast<float>(number_in(*radius, "camera aperture_radius", 0, 1e6));
+        if (f_number) {
+            const double n = number_in(*f_number, "camera f_number", 0, 1e6, true);
+            const double f = number_in(*focal_length, "camera focal_length", 0, 1e6, true);
+            c.aperture.radius = static_cast<float>(f / (2 * n));  // N = focal length / diameter
+        }
+        const JsonValue* distance = v.find("focus_distance");
+        const JsonValue* point_key = v.find("focus_point");
+        const JsonValue* blades = v.find("blades");
+        const JsonValue* rotation = v.find("rotation_degrees");
+        if (!radius && !f_number) {
+            for (const JsonValue* key : {distance, point_key, blades, rotation})
+                if (key) fail(key->pos(), "camera focus and blades need an aperture; expected \"aperture_radius\" or \"f_number\"");
+            return;
+        }
+        if (distance && point_key) fail(point_key->pos(), "camera has both focus_distance and focus_point; expected one of them");
+        const Vec3 forward = normalize(c.look_at - c.position);
+        c.focus_distance = length(c.look_at - c.position);  // default: focused on look_at
+        if (distance) c.focus_distance = static_cast<float>(number_in(*distance, "camera focus_distance", 0, 1e9, true));
+        if (point_key) {
+            c.focus_distance = dot(point(*point_key, "camera focus_point") - c.position, forward);
+            if (!(c.focus_distance > 0.f))
+                fail(point_key->pos(), "camera focus_point is not in front of the camera; expected a point ahead of it");
+        }
+        if (rotation && !blades) fail(rotation->pos(), "camera rotation_degrees turns the blades; expected \"blades\" too");
+        if (blades) c.aperture.blades = integer_in(*blades, "camera blades", 3, 64);
+        if (rotation) c.aperture.rotation_degrees = static_cast<float>(number_in(*rotation, "camera rotation_degrees", -360, 360));
     }
 
     void image_settings(const JsonValue& v) {
@@ -361,8 +448,34 @@ private:
         object(v, "shape " + index);
         const std::string& type = string(required(v, "type", "shape " + index), "shape " + index + " type");
         const std::string what = type + " (shape " + index + ")";
+        const JsonValue* motion_key = v.find("motion");
+        if (motion_key && type != "sphere" && type != "quad" && type != "triangle" && type != "mesh")
+            fail(motion_key->pos(), what + " cannot move; expected \"motion\" on a sphere, quad, triangle or mesh");
+        const std::size_t first_sphere = m_scene.spheres.size(), first_triangle = m_scene.triangles.size();
+        shape_of_type(v, type, what);
+        if (motion_key) make_moving(*motion_key, what, first_sphere, first_triangle);
+    }
+
+    /// The shapes just added (from first_sphere and first_triangle on) become one moving shape.
+    void make_moving(const JsonValue& motion_key, const std::string& what, std::size_t first_sphere,
+                     std::size_t first_triangle) {
+        Aabb rest;
+        for (std::size_t i = first_sphere; i < m_scene.spheres.size(); ++i) {
+            const Sphere& s = m_scene.spheres[i];
+            if (s.light >= 0) fail(motion_key.pos(), what + " emits light and moves; expected a shape without emission to move (moving emitters are not supported)");
+            rest.expand(s.center - Vec3(s.radius, s.radius, s.radius)), rest.expand(s.center + Vec3(s.radius, s.radius, s.radius));
+        }
+        for (std::size_t i = first_triangle; i < m_scene.triangles.size(); ++i) {
+            const Triangle& t = m_scene.triangles[i];
+            if (t.light >= 0) fail(motion_key.pos(), what + " emits light and moves; expected a shape without emission to move (moving emitters are not supported)");
+            rest.expand(t.p0), rest.expand(t.p1), rest.expand(t.p2);
+        }
+        m_scene.make_moving(first_sphere, first_triangle, motion(motion_key, what, rest.centroid()));
+    }
+
+    void shape_of_type(const JsonValue& v, const std::string& type, const std::string& what) {
         if (type == "sphere") {
-            check_keys(v, what, {"type", "center", "radius", "material", "emission"});
+            check_keys(v, what, {"type", "center", "radius", "material", "emission", "motion"});
             Sphere s;
             s.center = point(required(v, "center", what), what + " center");
             s.radius = static_cast<float>(number_in(required(v, "radius", what), what + " radius", 0, kMaxSceneCoordinate, true));
@@ -385,7 +498,7 @@ private:
             plane.light = surface.light;
             m_scene.planes.push_back(plane);
         } else if (type == "quad") {
-            check_keys(v, what, {"type", "origin", "edge1", "edge2", "transform", "material", "emission"});
+            check_keys(v, what, {"type", "origin", "edge1", "edge2", "transform", "material", "emission", "motion"});
             const Vec3 o = point(required(v, "origin", what), what + " origin");
             const Vec3 e1 = direction(required(v, "edge1", what), what + " edge1");
             const Vec3 e2 = direction(required(v, "edge2", what), what + " edge2");
@@ -396,7 +509,7 @@ private:
             add_triangle(a, b, c, m, v.pos(), what);
             add_triangle(a, c, d, m, v.pos(), what);
         } else if (type == "triangle") {
-            check_keys(v, what, {"type", "vertices", "material", "emission"});
+            check_keys(v, what, {"type", "vertices", "material", "emission", "motion"});
             const JsonValue& vs = required(v, "vertices", what);
             if (!vs.is_array() || vs.items().size() != 3)
                 fail(vs.pos(), what + " vertices is not an array of 3 points; expected [[x, y, z], [x, y, z], [x, y, z]]");
@@ -404,7 +517,7 @@ private:
                        c = point(vs.items()[2], what + " vertex");
             add_triangle(a, b, c, shape_surface(v, what, ShapeKind::triangle), v.pos(), what);
         } else if (type == "mesh") {
-            check_keys(v, what, {"type", "file", "transform", "material", "emission"});
+            check_keys(v, what, {"type", "file", "transform", "material", "emission", "motion"});
             const JsonValue& fv = required(v, "file", what);
             const std::string& file = string(fv, what + " file");
             const Transform tr = transform(v.find("transform"));
@@ -480,10 +593,12 @@ private:
         if (type != "point")
             fail(v.find("type")->pos(), "unknown light type " + quote_text(type) + "." + suggestion(type, {"point"}) +
                                             " Expected \"point\" (area lights are shapes with \"emission\")");
-        check_keys(v, "point light", {"type", "position", "intensity"});
+        check_keys(v, "point light", {"type", "position", "intensity", "motion"});
         const Vec3 position = point(required(v, "position", "point light"), "point light position");
         m_scene.add_point_light(position, spectrum(required(v, "intensity", "point light"), "point light intensity",
                                                    SpectrumUse::Emission));
+        if (const JsonValue* m = v.find("motion"))
+            std::get<PointLight>(m_scene.lights.back()).motion = motion(*m, "point light", position);
     }
 };
 

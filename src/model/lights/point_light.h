@@ -4,14 +4,19 @@
 #include <optional>
 
 #include "core/sampling.h"
+#include "geometry/motion.h"
 #include "model/lights/light_sample.h"
 #include "spectral/spectrum.h"
 
 namespace spt {
 
 struct PointLight {
-    Vec3 position;
+    Vec3 position;  ///< at rest: where `motion` starts from
     Spectrum intensity;
+    RigidMotion motion;  ///< none: the light stands still
+
+    /// Where the light is at `time` (motion blur).
+    Vec3 position_at(float time) const { return motion.is_static() ? position : motion.at(time).point(position); }
 
     float power() const { return 4.f * kPi * mean_over_visible(intensity); }
 
