@@ -13,6 +13,7 @@ struct Effects {
     bool transmission = false;       ///< Fresnel dielectrics
     bool dispersion = false;         ///< wavelength-dependent index: hero set splits
     bool shading_normals = false;    ///< meshes with vertex normals: smooth shading
+    bool media = false;              ///< participating media: the volumetric path tracer
 
     std::string describe() const;
 };
