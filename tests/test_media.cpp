@@ -80,6 +80,43 @@ TEST(MediaTransmittance, HomogeneousSlabIsBeerLambertPerWavelength) {
     EXPECT_NEAR(delta_sum / n, st.T[0], 5 * std::sqrt(st.T[0] * (1 - st.T[0]) / n));
 }
 
+TEST(MediaTransmittance, NestedMediaFollowTheInterfaces) {
+    // A sphere of medium A (radius 2) holding a sphere of medium B (radius 1) whose outside
+    // is A, both without a surface: a ray through the centre crosses 2 of A and 2 of B.
+    const Scene scene = load(R"({"camera": {"position": [0, 0, -5], "look_at": [0, 0, 0]},
+        "media": {"a": {"type": "homogeneous", "sigma_a": 0.3, "sigma_s": 0.1},
+                  "b": {"type": "homogeneous", "sigma_a": 0.9, "sigma_s": 0.6}},
+        "shapes": [{"type": "sphere", "center": [0, 0, 0], "radius": 2, "interior": "a"},
+                   {"type": "sphere", "center": [0, 0, 0], "radius": 1, "interior": "b", "exterior": "a"}]})");
+    Rng rng(1, 1, 1);
+    PathStats stats;
+    const SegmentTransmittance st =
+        segment_transmittance(scene, {{0.f, 0.f, -3.f}, {0.f, 0.f, 1.f}, 6.f}, -1, four_wavelengths(), rng, stats);
+    EXPECT_NEAR(st.T[0], std::exp(-0.4 * 2 - 1.5 * 2), 1e-5);
+    // A surface on the way blocks the shadow ray; so does running out of interfaces nowhere.
+    const Scene walled = load(R"({"camera": {"position": [0, 0, -5], "look_at": [0, 0, 0]},
+        "materials": {"white": {"kd": 0.5}},
+        "media": {"a": {"type": "homogeneous", "sigma_a": 0.3, "sigma_s": 0.1}},
+        "shapes": [{"type": "sphere", "center": [0, 0, 0], "radius": 2, "interior": "a"},
+                   {"type": "sphere", "center": [0, 0, 0], "radius": 0.5, "material": "white", "exterior": "a"}]})");
+    EXPECT_TRUE(segment_transmittance(walled, {{0.f, 0.f, -3.f}, {0.f, 0.f, 1.f}, 6.f}, -1, four_wavelengths(), rng,
+                                      stats).T.is_zero());
+}
+
+TEST(MediaLoader, GridFileIsReadAndInterpolated) {
+    const Scene scene = load_scene_file(std::string(SPT_TEST_DIR) + "/scenes/medium_grid.json", SpectralResolution{});
+    ASSERT_EQ(scene.media.size(), 1u);
+    const Medium& m = scene.media[0];
+    EXPECT_EQ(m.scale, 0.5f);
+    EXPECT_FLOAT_EQ(m.phase.g, 0.4f);
+    // Cell centres at x = −0.5 (1) and 0.5 (3); linear between, held outside; 0 beyond the box.
+    EXPECT_FLOAT_EQ(m.density_at({-0.75f, 0.f, 0.f}), 1.f);
+    EXPECT_FLOAT_EQ(m.density_at({0.f, 0.3f, -0.2f}), 2.f);
+    EXPECT_FLOAT_EQ(m.density_at({0.9f, 0.f, 0.f}), 3.f);
+    EXPECT_EQ(m.density_at({1.5f, 0.f, 0.f}), 0.f);
+    EXPECT_EQ(m.max_density({{0.f, 0.f, 0.f}, {1.f, 0.f, 0.f}, kInfinity}, 0.f, 1.f), 3.f);
+}
+
 // ---------------------------- Heterogeneous densities ----------------------------
 
 /// A 4×1×1 grid in the unit box: along x the density is v0 up to the first cell centre,
