@@ -1,3 +1,5 @@
+// The density grid text format (documented in the header): a tokenizer that keeps line and
+// column for messages, then the header, the sizes and the values, each checked.
 #include "io/density_grid_reader.h"
 
 #include <charconv>

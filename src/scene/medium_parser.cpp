@@ -1,3 +1,4 @@
+// The "media" section of scene files: each medium checked where it is read.
 #include "scene/medium_parser.h"
 
 #include <algorithm>
