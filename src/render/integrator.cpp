@@ -7,7 +7,6 @@
 #include "model/bsdfs/bsdf.h"
 #include "render/light_context.h"
 #include "render/mis.h"
-#include "render/volumetric_path.h"
 
 namespace spt {
 
@@ -103,8 +102,6 @@ namespace {
 #pragma GCC diagnostic ignored "-Wattributes"
 [[gnu::always_inline]] SampledSpectrum trace_path(const Scene& scene, const IntegratorSettings& settings, Ray ray,
                            SampledWavelengths& lambda, Rng& rng, PathStats& stats) {
-    // Media take their own loop: scenes without them pay this one branch per path.
-    if (scene.effects.media) [[unlikely]] return trace_volumetric_path(scene, settings, ray, lambda, rng, stats);
     SampledSpectrum L(0.f), beta(1.f);
     float eta_scale = 1.f;
     const bool point_nee = scene.effects.point_lights;
