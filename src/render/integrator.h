@@ -39,7 +39,9 @@ struct PathStats {
     std::uint64_t rays = 0;  ///< every ray cast: camera, bounce and shadow rays
 };
 
-/// Radiance arriving along `ray` at the path's wavelengths (may terminate the companions).
+/// Radiance arriving along `ray` at the path's wavelengths (may terminate the companions),
+/// in a scene without participating media (the renderer sends scenes with media to
+/// trace_volumetric_path, render/volumetric_path.h).
 SampledSpectrum trace_path(const Scene& scene, const IntegratorSettings& settings, Ray ray,
                            SampledWavelengths& lambda, Rng& rng, PathStats& stats);
 
