@@ -16,6 +16,7 @@ set(SPT_CORE_SOURCES
     src/io/auto_exposure.cpp
     src/model/aperture.cpp
     src/model/bsdfs/lobe_mix.cpp
+    src/io/density_grid_reader.cpp
     src/io/embedded_files.cpp
     src/io/exr_writer.cpp
     src/io/image_writer.cpp
@@ -34,9 +35,11 @@ set(SPT_CORE_SOURCES
     src/render/integrator.cpp
     src/render/light_sampling.cpp
     src/render/renderer.cpp
+    src/render/volumetric_path.cpp
     src/scene/builtin_scenes.cpp
     src/scene/effects.cpp
     src/scene/json_checker.cpp
+    src/scene/medium_parser.cpp
     src/scene/scene.cpp
     src/scene/scene_motion.cpp
     src/scene/scene_loader.cpp

@@ -16,6 +16,9 @@ struct IntegratorChoice {
     std::string reason;
 };
 
+/// Throws UsageError when the chosen integrator cannot render the scene: bdpt and vcm
+/// refuse participating media and spot lights (only the path integrator has them) rather
+/// than render a silently wrong image.
 IntegratorChoice choose_integrator(const Options& options, const Scene& scene);
 
 }  // namespace spt

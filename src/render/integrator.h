@@ -40,7 +40,9 @@ struct PathStats {
 };
 
 /// Radiance arriving along `ray` at the path's wavelengths (may terminate the companions),
-/// the scene as it stands at shutter time `time` (every ray of the path sees that time).
+/// the scene as it stands at shutter time `time` (every ray of the path sees that time), in a
+/// scene without participating media (the renderer sends scenes with media to
+/// trace_volumetric_path, render/volumetric_path.h).
 SampledSpectrum trace_path(const Scene& scene, const IntegratorSettings& settings, Ray ray, float time,
                            SampledWavelengths& lambda, Rng& rng, PathStats& stats);
 

@@ -12,6 +12,7 @@
 #include "render/bdpt.h"
 #include "render/light_sampling.h"
 #include "render/vertex_merging.h"
+#include "render/volumetric_path.h"
 #include "render/work_queue.h"
 
 namespace spt {
@@ -269,16 +270,35 @@ int next_chunk_end(const RenderSettings& s, int samples) {
     return std::min(s.spp, (samples / chunk + 1) * chunk);
 }
 
-void render_pixel(const Scene& scene, const RenderSettings& settings, const Camera& camera, int x,
-                  int y, int first_sample, int end_sample, Film& film, PathStats& stats) {
+/// The samples [first_sample, end_sample) of pixel (x, y), each traced by `trace`.
+template <typename Trace>
+[[gnu::always_inline]] inline void render_samples(const Trace& trace, const RenderSettings& settings,
+                                                  const Camera& camera, int x, int y, int first_sample,
+                                                  int end_sample, Film& film) {
     const RngStream stream = pixel_stream(settings, x, y);
     int chunk_end = next_chunk_end(settings, first_sample);
     for (int s = first_sample; s < end_sample; ++s) {
         PixelSample ps = start_pixel_sample(stream, x, y, s, settings, camera);
-        const SampledSpectrum L = trace_path(scene, settings.integrator, ps.ray(camera), ps.time, ps.lambda, ps.rng, stats);
+        const SampledSpectrum L = trace(ps.ray(camera), ps.time, ps.lambda, ps.rng);
         film.add_sample(x, y, L, ps.lambda);
         if (s + 1 == chunk_end) film.fold_pixel(x, y), chunk_end = next_chunk_end(settings, chunk_end);
     }
+}
+
+void render_pixel(const Scene& scene, const RenderSettings& settings, const Camera& camera, int x,
+                  int y, int first_sample, int end_sample, Film& film, PathStats& stats) {
+    // Scenes with media take the volumetric path tracer, chosen once per pixel: the surface
+    // loop below is the one of before, for scenes without media.
+    if (scene.effects.media) [[unlikely]] {
+        // (Scene::finalize refuses media with motion blur: the time is the shutter's opening.)
+        render_samples([&](const Ray& ray, float, SampledWavelengths& lambda, Rng& rng) {
+            return trace_volumetric_path(scene, settings.integrator, ray, lambda, rng, stats);
+        }, settings, camera, x, y, first_sample, end_sample, film);
+        return;
+    }
+    render_samples([&](const Ray& ray, float time, SampledWavelengths& lambda, Rng& rng) {
+        return trace_path(scene, settings.integrator, ray, time, lambda, rng, stats);
+    }, settings, camera, x, y, first_sample, end_sample, film);
 }
 
 RenderStats render(const Scene& scene, const RenderSettings& settings, Film& film,

@@ -18,6 +18,7 @@ std::string Effects::describe() const {
     add(shading_normals, "smooth shading (vertex normals)");
     add(depth_of_field, "depth of field");
     add(motion_blur, "motion blur");
+    add(media, "participating media");
     return s.empty() ? "none" : s;
 }
 

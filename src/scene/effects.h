@@ -15,6 +15,7 @@ struct Effects {
     bool shading_normals = false;    ///< meshes with vertex normals: smooth shading
     bool depth_of_field = false;     ///< thin-lens camera: rays start on the aperture
     bool motion_blur = false;        ///< something moves while the shutter is open
+    bool media = false;              ///< participating media: the volumetric path tracer
 
     std::string describe() const;
 };

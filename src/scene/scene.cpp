@@ -279,7 +279,7 @@ void Scene::finalize() {
 
     // Which effects are called for: only materials that some shape uses count.
     effects = Effects{};
-    effects.point_lights = !point_light_indices.empty();
+    effects.point_lights = !point_light_indices.empty() || !spot_light_indices.empty();
     effects.background = environment_index >= 0;
     effects.depth_of_field = camera.aperture.radius > 0.f;
     // Motion only blurs when the shutter stays open while something moves.
@@ -289,7 +289,7 @@ void Scene::finalize() {
     effects.motion_blur = moves && camera.shutter_close > camera.shutter_open;
     for (const Light& l : lights)
         effects.emissive_surfaces |=
-            !std::holds_alternative<PointLight>(l) && !std::holds_alternative<EnvironmentLight>(l);
+            !is_delta_light(l) && !std::holds_alternative<EnvironmentLight>(l);
     auto material_effects = [&](const auto& shapes) {
         for (const auto& shape : shapes) {
             const Material& m = materials[shape.material];
@@ -300,9 +300,47 @@ void Scene::finalize() {
     };
     for_each_shape_array(material_effects);
     for (const MovingShape& m : moving_shapes) material_effects(m.spheres), material_effects(m.triangles);
+    finalize_media();
+    effects.media = !media.empty();
+    require(!(effects.media && effects.motion_blur),
+            "participating media and motion blur cannot be rendered together yet; expected one of them");
     for (const Triangle& t : triangles)
         effects.shading_normals |=
             t.attributes >= 0 && triangle_attributes[static_cast<std::size_t>(t.attributes)].has_normals;
+}
+
+void Scene::finalize_media() {
+    for (const Medium& m : media) {
+        const std::string who = "medium '" + m.name + "'";
+        check_spectrum(m.sigma_a, who + " sigma_a", 0.f, 1e30f);
+        check_spectrum(m.sigma_s, who + " sigma_s", 0.f, 1e30f);
+        require(std::isfinite(m.phase.g) && std::fabs(m.phase.g) < 1.f, who + " g must be in (-1, 1)");
+        if (const GridDensity* g = std::get_if<GridDensity>(&m.density)) {
+            require(g->grid && g->grid->nx > 0 && g->grid->values.size() ==
+                    static_cast<std::size_t>(g->grid->nx) * g->grid->ny * g->grid->nz, who + " has no grid");
+            require(finite(g->lo) && finite(g->hi) && g->lo.x < g->hi.x && g->lo.y < g->hi.y && g->lo.z < g->hi.z,
+                    who + " box must be finite with min < max on every axis");
+        }
+        if (const HeightFogDensity* h = std::get_if<HeightFogDensity>(&m.density))
+            require(std::isfinite(h->scale_height) && h->scale_height > 0.f && std::isfinite(h->base),
+                    who + " scale_height must be > 0 and base finite");
+    }
+    const int n = static_cast<int>(media.size());
+    require(camera_medium >= -1 && camera_medium < n, "the camera's medium does not exist");
+    if (media.empty()) {
+        for (auto& sides : shape_media) sides.clear();
+        require(interface_material < 0, "a shape without a surface bounds no medium");
+        return;
+    }
+    // In the order of ShapeKind.
+    const std::size_t counts[6] = {spheres.size(), planes.size(), triangles.size(), disks.size(), cylinders.size(),
+                                   cones.size()};
+    for (std::size_t kind = 0; kind < 6; ++kind) {
+        require(shape_media[kind].size() == counts[kind], "every shape needs its medium interface");
+        for (const MediumInterface& mi : shape_media[kind])
+            require(mi.interior >= -1 && mi.interior < n && mi.exterior >= -1 && mi.exterior < n,
+                    "a shape refers to a medium that does not exist");
+    }
 }
 
 void Scene::finalize_lights() {
@@ -323,6 +361,8 @@ void Scene::finalize_lights() {
         if (const PointLight* p = std::get_if<PointLight>(&l)) {
             box.expand(p->position);
             for (const Keyframe& k : p->motion.keys) box.expand(p->motion.at(k.time).point(p->position));
+        } else if (const SpotLight* s = std::get_if<SpotLight>(&l)) {
+            box.expand(s->position);
         }
     const Vec3 lens(camera.aperture.radius, camera.aperture.radius, camera.aperture.radius);
     box.expand(camera.position - lens);  // the whole lens (the pinhole's point when 0)
@@ -375,6 +415,7 @@ void Scene::finalize_lights() {
     }
 
     point_light_indices.clear();
+    spot_light_indices.clear();
     environment_index = -1;
     std::vector<float> area_power(lights.size(), 0.f);
     for (std::size_t i = 0; i < lights.size(); ++i) {
@@ -383,6 +424,17 @@ void Scene::finalize_lights() {
             require(finite(p->position), "point light position must be finite");
             check_spectrum(p->intensity, "point light intensity", 0.f, 1e30f);
             point_light_indices.push_back(static_cast<int>(i));
+            continue;
+        }
+        if (SpotLight* s = std::get_if<SpotLight>(&light)) {
+            require(finite(s->position), "spot light position must be finite");
+            require(finite(s->direction) && std::fabs(length(s->direction) - 1.f) < 1e-4f,
+                    "spot light direction must be a unit vector");
+            require(s->cos_cone >= -1.f && s->cos_cone < s->cos_falloff + 1e-7f && s->cos_falloff <= 1.f &&
+                        s->cos_cone < 1.f,
+                    "spot light angles must satisfy 0 <= falloff <= cone <= 180 degrees, cone > 0");
+            check_spectrum(s->intensity, "spot light intensity", 0.f, 1e30f);
+            spot_light_indices.push_back(static_cast<int>(i));
             continue;
         }
         if (EnvironmentLight* e = std::get_if<EnvironmentLight>(&light)) {

@@ -1,5 +1,6 @@
 // A renderable scene: camera, shapes in flat typed arrays, materials by index, lights.
 #pragma once
+#include <array>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -18,6 +19,7 @@
 #include "model/camera.h"
 #include "model/lights/light.h"
 #include "model/lights/light_distribution.h"
+#include "model/media/medium.h"
 #include "model/material.h"
 #include "render/integrator_kind.h"
 #include "scene/effects.h"
@@ -74,6 +76,18 @@ struct Scene {
     /// ones, each behind the box it sweeps.
     std::vector<MovingShape> moving_shapes;
 
+    /// Participating media and where they are (all empty in scenes without media): the
+    /// medium around the camera, each shape's two sides ([ShapeKind][index in its array])
+    /// and the material of shapes that only bound a medium (no surface: rays pass straight
+    /// through them), −1 for none.
+    std::vector<Medium> media;
+    int camera_medium = -1;
+    std::array<std::vector<MediumInterface>, 6> shape_media;
+    int interface_material = -1;
+    MediumInterface medium_interface(PrimId prim) const {
+        return shape_media[static_cast<std::size_t>(prim.kind())][prim.index()];
+    }
+
     Effects effects;  ///< filled by finalize()
 
     /// Derived by finalize(): the point lights (each sampled at every vertex: no random
@@ -82,6 +96,7 @@ struct Scene {
     /// environment's index (−1: black) and the bounding sphere of the finite shapes, the
     /// camera and the point lights.
     std::vector<int> point_light_indices;
+    std::vector<int> spot_light_indices;  ///< sampled like the point lights
     LightDistribution area_light_choice;
     LightDistribution area_light_choice_with_planes;
     int environment_index = -1;
@@ -219,6 +234,8 @@ private:
     /// Copies the emitting shapes' geometry into their lights, checks the lights, finds the
     /// bounding sphere and builds the light choices.
     void finalize_lights();
+    /// Checks the media (coefficients, g, boxes) and that every shape has its interface.
+    void finalize_media();
     static Hit with_prim(Hit hit, ShapeKind kind, std::ptrdiff_t index) {
         hit.prim = PrimId(kind, static_cast<std::uint32_t>(index));
         return hit;

@@ -17,6 +17,7 @@
 #include "geometry/mesh_closure.h"
 #include "io/ply_reader.h"
 #include "scene/json_checker.h"
+#include "scene/medium_parser.h"
 #include "scene/spectrum_parser.h"
 
 namespace spt {
@@ -34,7 +35,8 @@ public:
         m_scene.name = name;
         const JsonValue& top = object(root, "the scene");
         check_keys(top, "the scene",
-                   {"description", "summary", "camera", "image", "integrator", "background", "materials", "shapes", "lights"});
+                   {"description", "summary", "camera", "image", "integrator", "background", "materials", "media", "medium",
+                    "shapes", "lights"});
         if (const JsonValue* d = top.find("description")) m_scene.summary = first_sentence(string(*d, "description"));
         if (const JsonValue* s = top.find("summary")) m_scene.summary = one_line(*s, "summary");
         camera(required(top, "camera", "the scene"));
@@ -43,6 +45,8 @@ public:
         if (const JsonValue* bg = top.find("background"))
             m_scene.set_background(spectrum(*bg, "background", SpectrumUse::Emission));
         if (const JsonValue* mats = top.find("materials")) materials(*mats);
+        if (const JsonValue* media = top.find("media")) media_section(*media);
+        if (const JsonValue* m = top.find("medium")) m_scene.camera_medium = medium_ref(*m, "medium");
         const JsonValue& shape_list = required(top, "shapes", "the scene");
         if (!shape_list.is_array()) wrong_type(shape_list, "shapes", "an array of shapes");
         for (const JsonValue& s : shape_list.items()) shape(s);
@@ -332,6 +336,10 @@ private:
             if (!le.is_zero()) surface.light = make_emitter(le);
             return surface;
         }
+        if (!name && (v.find("interior") || v.find("exterior"))) {
+            surface.material = interface_material();  // bounds a medium, invisible
+            return surface;
+        }
         if (!name) fail(v.pos(), what + " has neither \"material\" nor \"emission\"; expected one of them");
         const std::string& n = string(*name, what + " material");
         if (auto it = m_material_index.find(n); it != m_material_index.end()) {
@@ -444,6 +452,66 @@ private:
     }
 
     void shape(const JsonValue& v) {
+        shape_geometry(v);
+        record_medium_interface(v);
+    }
+
+    // ---------------------------- Media ----------------------------
+
+    void media_section(const JsonValue& v) {
+        object(v, "media");
+        const MediumParser parser(m_origin, m_spectra, m_read_relative);
+        for (const auto& [name, def] : v.members()) {
+            if (name == "vacuum") fail(def.pos(), "medium name \"vacuum\" is reserved (no medium); expected another name");
+            m_scene.media.push_back(parser.medium(name, def));
+        }
+    }
+
+    /// A medium by name ("vacuum": none, −1), as the value of `what`.
+    int medium_ref(const JsonValue& v, const std::string& what) const {
+        const std::string& name = string(v, what);
+        if (name == "vacuum") return -1;
+        std::vector<std::string> known = {"vacuum"};
+        for (std::size_t i = 0; i < m_scene.media.size(); ++i) {
+            if (m_scene.media[i].name == name) return static_cast<int>(i);
+            known.push_back(m_scene.media[i].name);
+        }
+        fail(v.pos(), "unknown medium " + quote_text(name) + "." + suggestion(name, known) +
+                          " Expected one of: " + join(known) + " (defined in \"media\")");
+    }
+
+    /// The shape's two sides ("interior", "exterior"; by default vacuum inside and the
+    /// camera's medium outside) for each primitive the shape added. Scenes without media keep
+    /// no interfaces.
+    void record_medium_interface(const JsonValue& v) {
+        const JsonValue* in = v.find("interior");
+        const JsonValue* out = v.find("exterior");
+        if (m_scene.media.empty()) {
+            if (in || out) fail((in ? in : out)->pos(), "a shape names a medium but the scene defines none; "
+                                                         "expected a \"media\" section");
+            return;
+        }
+        MediumInterface mi{-1, m_scene.camera_medium};
+        if (in) mi.interior = medium_ref(*in, "interior");
+        if (out) mi.exterior = medium_ref(*out, "exterior");
+        const std::size_t counts[6] = {m_scene.spheres.size(), m_scene.planes.size(), m_scene.triangles.size(),
+                                       m_scene.disks.size(), m_scene.cylinders.size(), m_scene.cones.size()};
+        for (std::size_t k = 0; k < 6; ++k) m_scene.shape_media[k].resize(counts[k], mi);
+    }
+
+    /// The material of shapes without a surface (made once).
+    int interface_material() {
+        if (m_scene.interface_material < 0) {
+            Material m;
+            m.name = "interface (no surface)";
+            m.bsdf = DiffuseBsdf{};
+            m_scene.interface_material = add_material(std::move(m), {});
+            m_material_emission.emplace_back();
+        }
+        return m_scene.interface_material;
+    }
+
+    void shape_geometry(const JsonValue& v) {
         const std::string index = std::to_string(m_shape_count++);
         object(v, "shape " + index);
         const std::string& type = string(required(v, "type", "shape " + index), "shape " + index + " type");
@@ -475,7 +543,7 @@ private:
 
     void shape_of_type(const JsonValue& v, const std::string& type, const std::string& what) {
         if (type == "sphere") {
-            check_keys(v, what, {"type", "center", "radius", "material", "emission", "motion"});
+            check_keys(v, what, {"type", "center", "radius", "material", "emission", "motion", "interior", "exterior"});
             Sphere s;
             s.center = point(required(v, "center", what), what + " center");
             s.radius = static_cast<float>(number_in(required(v, "radius", what), what + " radius", 0, kMaxSceneCoordinate, true));
@@ -485,7 +553,7 @@ private:
             s.light = surface.light;
             m_scene.spheres.push_back(s);
         } else if (type == "plane") {
-            check_keys(v, what, {"type", "normal", "point", "material", "emission"});
+            check_keys(v, what, {"type", "normal", "point", "material", "emission", "interior", "exterior"});
             const JsonValue& nv = required(v, "normal", what);
             const Vec3 n = normalize(direction(nv, what + " normal"));
             const Vec3 p = point(required(v, "point", what), what + " point");
@@ -498,7 +566,7 @@ private:
             plane.light = surface.light;
             m_scene.planes.push_back(plane);
         } else if (type == "quad") {
-            check_keys(v, what, {"type", "origin", "edge1", "edge2", "transform", "material", "emission", "motion"});
+            check_keys(v, what, {"type", "origin", "edge1", "edge2", "transform", "material", "emission", "motion", "interior", "exterior"});
             const Vec3 o = point(required(v, "origin", what), what + " origin");
             const Vec3 e1 = direction(required(v, "edge1", what), what + " edge1");
             const Vec3 e2 = direction(required(v, "edge2", what), what + " edge2");
@@ -509,7 +577,7 @@ private:
             add_triangle(a, b, c, m, v.pos(), what);
             add_triangle(a, c, d, m, v.pos(), what);
         } else if (type == "triangle") {
-            check_keys(v, what, {"type", "vertices", "material", "emission", "motion"});
+            check_keys(v, what, {"type", "vertices", "material", "emission", "motion", "interior", "exterior"});
             const JsonValue& vs = required(v, "vertices", what);
             if (!vs.is_array() || vs.items().size() != 3)
                 fail(vs.pos(), what + " vertices is not an array of 3 points; expected [[x, y, z], [x, y, z], [x, y, z]]");
@@ -517,7 +585,7 @@ private:
                        c = point(vs.items()[2], what + " vertex");
             add_triangle(a, b, c, shape_surface(v, what, ShapeKind::triangle), v.pos(), what);
         } else if (type == "mesh") {
-            check_keys(v, what, {"type", "file", "transform", "material", "emission", "motion"});
+            check_keys(v, what, {"type", "file", "transform", "material", "emission", "motion", "interior", "exterior"});
             const JsonValue& fv = required(v, "file", what);
             const std::string& file = string(fv, what + " file");
             const Transform tr = transform(v.find("transform"));
@@ -560,9 +628,13 @@ private:
                 ++added;
             }
             if (added == 0) fail(fv.pos(), what + ": " + quote_text(display) + " has no triangle of non-zero area; expected at least one");
-            if (m_scene.materials[m.material].flags.has(BsdfFlags::transmission)) check_refracting_mesh(p, mesh, m.material, what, display);
+            // A mesh that names its media says which side is which: it may be one piece of a
+            // closed boundary (a glass's wall against the liquid), so it need not close alone.
+            const bool sides_named = v.find("interior") || v.find("exterior");
+            if (m_scene.materials[m.material].flags.has(BsdfFlags::transmission) && !sides_named)
+                check_refracting_mesh(p, mesh, m.material, what, display);
         } else if (type == "disk") {
-            check_keys(v, what, {"type", "center", "normal", "radius", "material", "emission"});
+            check_keys(v, what, {"type", "center", "normal", "radius", "material", "emission", "interior", "exterior"});
             Disk d;
             d.center = point(required(v, "center", what), what + " center");
             d.normal = unit_direction(required(v, "normal", what), what + " normal");
@@ -571,7 +643,7 @@ private:
             d.material = surface.material, d.light = surface.light;
             m_scene.disks.push_back(d);
         } else if (type == "cylinder" || type == "cone") {
-            check_keys(v, what, {"type", "base", "axis", "radius", "height", "material", "emission"});
+            check_keys(v, what, {"type", "base", "axis", "radius", "height", "material", "emission", "interior", "exterior"});
             const Vec3 base = point(required(v, "base", what), what + " base");
             const Vec3 axis = unit_direction(required(v, "axis", what), what + " axis");
             const float radius = positive_size(v, "radius", what), height = positive_size(v, "height", what);
@@ -587,12 +659,31 @@ private:
     }
     int m_shape_count = 0;
 
+    /// {"type": "spot", "position", "direction", "intensity", "cone_degrees", "falloff_degrees"}.
+    void spot_light(const JsonValue& v) {
+        check_keys(v, "spot light", {"type", "position", "direction", "intensity", "cone_degrees", "falloff_degrees"});
+        SpotLight s;
+        s.position = point(required(v, "position", "spot light"), "spot light position");
+        s.direction = unit_direction(required(v, "direction", "spot light"), "spot light direction");
+        s.intensity = spectrum(required(v, "intensity", "spot light"), "spot light intensity", SpectrumUse::Emission);
+        const double cone = number_in(required(v, "cone_degrees", "spot light"), "spot light cone_degrees", 0, 180, true);
+        double falloff = cone;
+        if (const JsonValue* f = v.find("falloff_degrees"))
+            falloff = number_in(*f, "spot light falloff_degrees", 0, cone);
+        constexpr double kRadians = 3.14159265358979323846 / 180.0;
+        s.cos_cone = static_cast<float>(std::cos(cone * kRadians));
+        s.cos_falloff = static_cast<float>(std::cos(falloff * kRadians));
+        m_scene.lights.emplace_back(std::move(s));
+    }
+
     void light(const JsonValue& v) {
         object(v, "light");
         const std::string& type = string(required(v, "type", "light"), "light type");
+        if (type == "spot") return spot_light(v);
         if (type != "point")
-            fail(v.find("type")->pos(), "unknown light type " + quote_text(type) + "." + suggestion(type, {"point"}) +
-                                            " Expected \"point\" (area lights are shapes with \"emission\")");
+            fail(v.find("type")->pos(), "unknown light type " + quote_text(type) + "." +
+                                            suggestion(type, {"point", "spot"}) +
+                                            " Expected \"point\" or \"spot\" (area lights are shapes with \"emission\")");
         check_keys(v, "point light", {"type", "position", "intensity", "motion"});
         const Vec3 position = point(required(v, "position", "point light"), "point light position");
         m_scene.add_point_light(position, spectrum(required(v, "intensity", "point light"), "point light intensity",

@@ -26,14 +26,18 @@
 #include "model/lights/quad_light.h"
 #include "model/lights/quadric_light.h"
 #include "model/lights/sphere_light.h"
+#include "model/lights/spot_light.h"
 #include "model/lights/triangle_mesh_light.h"
 
 namespace spt {
 
 using Light =
-    std::variant<PointLight, SphereLight, QuadLight, TriangleMeshLight, QuadricLight, PlaneLight, EnvironmentLight>;
+    std::variant<PointLight, SphereLight, QuadLight, TriangleMeshLight, QuadricLight, PlaneLight, EnvironmentLight,
+                 SpotLight>;
 
-inline bool is_delta_light(const Light& light) { return std::holds_alternative<PointLight>(light); }
+inline bool is_delta_light(const Light& light) {
+    return std::holds_alternative<PointLight>(light) || std::holds_alternative<SpotLight>(light);
+}
 
 inline float light_power(const Light& light) {
     return std::visit([](const auto& l) { return l.power(); }, light);
@@ -43,7 +47,8 @@ inline std::optional<LightSample> light_sample_li(const Light& light, const Ligh
                                                   const SampledWavelengths& lambda, float u1, float u2) {
     return std::visit(
         [&](const auto& l) -> std::optional<LightSample> {
-            if constexpr (std::is_same_v<std::decay_t<decltype(l)>, PointLight>) return l.sample_li(ctx, lambda);
+            using T = std::decay_t<decltype(l)>;
+            if constexpr (std::is_same_v<T, PointLight> || std::is_same_v<T, SpotLight>) return l.sample_li(ctx, lambda);
             else return l.sample_li(ctx, lambda, u1, u2);
         },
         light);
@@ -55,7 +60,7 @@ inline float light_pdf_li(const Light& light, const LightSampleContext& ctx, con
     return std::visit(
         [&](const auto& l) -> float {
             using T = std::decay_t<decltype(l)>;
-            if constexpr (std::is_same_v<T, PointLight>) return 0.f;
+            if constexpr (std::is_same_v<T, PointLight> || std::is_same_v<T, SpotLight>) return 0.f;
             else if constexpr (std::is_same_v<T, PlaneLight> || std::is_same_v<T, EnvironmentLight>)
                 return l.pdf_li(ctx, wi);
             else return hit ? l.pdf_li(ctx, hit->p, hit->n) : 0.f;
@@ -67,7 +72,8 @@ inline float light_pdf_li(const Light& light, const LightSampleContext& ctx, con
 inline SampledSpectrum light_emitted(const Light& light, const SampledWavelengths& lambda) {
     return std::visit(
         [&](const auto& l) -> SampledSpectrum {
-            if constexpr (std::is_same_v<std::decay_t<decltype(l)>, PointLight>) return SampledSpectrum(0.f);
+            using T = std::decay_t<decltype(l)>;
+            if constexpr (std::is_same_v<T, PointLight> || std::is_same_v<T, SpotLight>) return SampledSpectrum(0.f);
             else return l.Le.sample(lambda);
         },
         light);
