@@ -1,6 +1,8 @@
 // BVH build (binned SAH) and traversal. See bvh.h.
 #include "geometry/bvh.h"
 
+#include "geometry/instanced_mesh.h"
+
 #include <algorithm>
 #include <atomic>
 #include <stdexcept>
@@ -256,6 +258,7 @@ BvhBuildStats Bvh::build(const BvhShapes& shapes) {
     add(shapes.disks, ShapeKind::disk);
     add(shapes.cylinders, ShapeKind::cylinder);
     add(shapes.cones, ShapeKind::cone);
+    add(shapes.instances, ShapeKind::instance);
     if (prims.empty()) return stats;
     // Leaf references keep the entry index in 28 bits (and a count in 4).
     if (prims.size() >= (std::size_t(1) << 28)) throw std::length_error("BVH: more than 2^28 primitives");
@@ -287,7 +290,7 @@ inline double quadric_t(const Ray& ray, const BvhShapes& shapes, PrimId p) {
         case ShapeKind::disk: return shapes.disks[p.index()].intersect_t(ray);
         case ShapeKind::cylinder: return shapes.cylinders[p.index()].intersect_t(ray);
         case ShapeKind::cone: return shapes.cones[p.index()].intersect_t(ray);
-        default: return kInfinity;  // planes are never in the tree
+        default: return kInfinity;  // planes are never in the tree; instances are handled apart
     }
 }
 
@@ -368,11 +371,20 @@ bool Bvh::intersect(const Ray& ray, const BvhShapes& shapes, double& t_best, Bvh
             for (const BvhLeafPrim* end = lp + (ref & kCountMask); lp != end; ++lp) {
                 if (lp->prim.kind() == ShapeKind::triangle) {
                     if (const auto ti = intersect_triangle(lp->p0, lp->p1, lp->p2, sheared, t_best)) {
-                        t_best = ti->t, hit.prim = lp->prim, hit.tri = *ti, found = true;
+                        t_best = ti->t, hit.prim = lp->prim, hit.tri = *ti, hit.instance = BvhHit::kNoInstance;
+                        found = true;
+                        t_limit = next_float_up(static_cast<float>(t_best));
+                    }
+                } else if (lp->prim.kind() == ShapeKind::instance) [[unlikely]] {
+                    // The instance's own tree, with the ray in its object space.
+                    const MeshInstance& inst = shapes.instances[lp->prim.index()];
+                    const InstancedMesh& mesh = shapes.meshes[inst.mesh];
+                    if (mesh.bvh.intersect(inst.to_object_ray(ray), mesh.shapes(), t_best, hit)) {
+                        hit.instance = lp->prim.index(), found = true;
                         t_limit = next_float_up(static_cast<float>(t_best));
                     }
                 } else if (const double t = quadric_t(ray, shapes, lp->prim); t < t_best) {
-                    t_best = t, hit.prim = lp->prim, found = true;
+                    t_best = t, hit.prim = lp->prim, hit.instance = BvhHit::kNoInstance, found = true;
                     t_limit = next_float_up(static_cast<float>(t_best));
                 }
             }
@@ -410,11 +422,17 @@ bool Bvh::occluded(const Ray& ray, const BvhShapes& shapes) const {
             }
         } else {
             const BvhLeafPrim* lp = m_leaf.data() + (ref >> 4);
-            for (const BvhLeafPrim* end = lp + (ref & kCountMask); lp != end; ++lp)
-                if (lp->prim.kind() == ShapeKind::triangle
-                        ? intersect_triangle(lp->p0, lp->p1, lp->p2, sheared, ray.t_max).has_value()
-                        : quadric_t(ray, shapes, lp->prim) < ray.t_max)
+            for (const BvhLeafPrim* end = lp + (ref & kCountMask); lp != end; ++lp) {
+                if (lp->prim.kind() == ShapeKind::triangle) {
+                    if (intersect_triangle(lp->p0, lp->p1, lp->p2, sheared, ray.t_max)) return true;
+                } else if (lp->prim.kind() == ShapeKind::instance) [[unlikely]] {
+                    const MeshInstance& inst = shapes.instances[lp->prim.index()];
+                    const InstancedMesh& mesh = shapes.meshes[inst.mesh];
+                    if (mesh.bvh.occluded(inst.to_object_ray(ray), mesh.shapes())) return true;
+                } else if (quadric_t(ray, shapes, lp->prim) < ray.t_max) {
                     return true;
+                }
+            }
         }
         if (sp == 0) return false;
         ref = stack[--sp];

@@ -16,10 +16,13 @@
 #include "geometry/cone.h"
 #include "geometry/cylinder.h"
 #include "geometry/disk.h"
+#include "geometry/mesh_instance.h"
 #include "geometry/sphere.h"
 #include "geometry/triangle.h"
 
 namespace spt {
+
+struct InstancedMesh;
 
 /// The shape arrays a BVH is built over and traversed with (the same arrays both times); its
 /// primitives are PrimIds (kind and index) into them.
@@ -29,6 +32,10 @@ struct BvhShapes {
     std::span<const Disk> disks{};
     std::span<const Cylinder> cylinders{};
     std::span<const Cone> cones{};
+    /// Placed meshes (a two-level BVH: their own trees are in `meshes`, indexed by
+    /// MeshInstance::mesh).
+    std::span<const MeshInstance> instances{};
+    const InstancedMesh* meshes = nullptr;
 };
 
 /// A 4-wide node: the boxes of its four children side by side (lane k = child k), tested
@@ -55,6 +62,10 @@ struct BvhHit {
     double t = kInfinity;
     PrimId prim;
     TriangleIntersection tri{};  ///< filled for triangles
+    /// The instance hit (an index into BvhShapes::instances), whose mesh's triangle `prim`
+    /// is; kNoInstance when `prim` is one of the arrays' own shapes.
+    std::uint32_t instance = kNoInstance;
+    static constexpr std::uint32_t kNoInstance = ~0u;
 };
 
 struct BvhBuildStats {

@@ -13,7 +13,8 @@ struct Ray {
 };
 
 /// Which shape array a primitive index refers to.
-enum class ShapeKind : unsigned char { sphere, plane, triangle, disk, cylinder, cone };
+/// `instance`: a MeshInstance (a placed InstancedMesh), in the top level of the BVH only.
+enum class ShapeKind : unsigned char { sphere, plane, triangle, disk, cylinder, cone, instance };
 
 /// A primitive of the scene: its shape kind and its index in that kind's array, in 32 bits
 /// (the BVH's primitive lists hold these too).
