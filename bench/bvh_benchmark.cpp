@@ -14,14 +14,13 @@
 #include "core/rng.h"
 #include "core/sampling.h"
 #include "geometry/bvh.h"
+#include "bench_timing.h"
 
 using namespace spt;
+using spt::bench::rays_per_second;
+using spt::bench::seconds_since;
 
 namespace {
-
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
 
 /// A UV sphere of about n triangles with a bumpy radius (so the mesh is not trivially regular).
 std::vector<Triangle> bumpy_sphere(int n) {
@@ -55,25 +54,6 @@ std::vector<Ray> random_rays(int n, std::uint64_t seed) {
     return rays;
 }
 
-/// Rays per second over `rays` using `threads` threads; `trace` returns 1 for a hit.
-template <class Trace>
-double rays_per_second(const std::vector<Ray>& rays, int threads, Trace trace, long& hits) {
-    std::vector<long> counts(threads, 0);
-    const auto t0 = std::chrono::steady_clock::now();
-    std::vector<std::thread> pool;
-    for (int k = 0; k < threads; ++k)
-        pool.emplace_back([&, k] {
-            long c = 0;
-            for (std::size_t i = k; i < rays.size(); i += threads) c += trace(rays[i]);
-            counts[k] = c;
-        });
-    for (auto& t : pool) t.join();
-    const double s = seconds_since(t0);
-    hits = 0;
-    for (long c : counts) hits += c;
-    return rays.size() / s;
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -92,12 +72,12 @@ int main(int argc, char** argv) {
     std::printf("mesh: %zu triangles; BVH build %.3f s (%d nodes, %d leaves, depth %d)\n", mesh.size(), build_s,
                 stats.nodes, stats.leaves, stats.max_depth);
     const std::vector<Ray> rays = random_rays(n_rays, 1);
-    auto trace_mesh = [&](const Ray& r) {
+    auto trace_mesh = [&](std::size_t, const Ray& r) {
         double t = r.t_max;
         BvhHit h;
         return bvh.intersect(r, {.triangles = mesh}, t, h) ? 1 : 0;
     };
-    auto shadow_mesh = [&](const Ray& r) { return bvh.occluded(r, {.triangles = mesh}) ? 1 : 0; };
+    auto shadow_mesh = [&](std::size_t, const Ray& r) { return bvh.occluded(r, {.triangles = mesh}) ? 1 : 0; };
     for (int threads : {1, 2}) {
         long hits = 0;
         const double rps = rays_per_second(rays, threads, trace_mesh, hits);
@@ -120,12 +100,12 @@ int main(int argc, char** argv) {
         sb.build({.spheres = spheres});
         const int m = n >= 10000 ? 20000 : 400000;
         const std::vector<Ray> srays = random_rays(m, 2);
-        auto brute = [&](const Ray& ray) {
+        auto brute = [&](std::size_t, const Ray& ray) {
             double t = ray.t_max;
             for (const Sphere& s : spheres) t = std::min(t, s.intersect_t(ray));
             return t < ray.t_max ? 1 : 0;
         };
-        auto tree = [&](const Ray& ray) {
+        auto tree = [&](std::size_t, const Ray& ray) {
             double t = ray.t_max;
             BvhHit h;
             return sb.intersect(ray, {.spheres = spheres}, t, h) ? 1 : 0;

@@ -1,7 +1,12 @@
 // BVH build (binned SAH) and traversal. See bvh.h.
 #include "geometry/bvh.h"
 
+#include "geometry/instanced_mesh.h"
+
 #include <algorithm>
+#include <atomic>
+#include <stdexcept>
+#include <thread>
 
 namespace spt {
 
@@ -68,11 +73,178 @@ Aabb bounds(const Cone& cone) {
                        32.0 * kDoubleEps * (max_abs(b) + cone.radius + cone.height));
 }
 
+struct Bvh::BuildContext {
+    std::vector<BuildPrim> prims;
+    std::atomic<int> spare_threads{0};  ///< threads that may still be started
+};
+
+namespace {
+
+/// Subtrees of fewer primitives are built on the thread that reaches them (a thread costs
+/// tens of microseconds; a subtree of this size, milliseconds).
+constexpr int kParallelMin = 16384;
+/// The SAH's cost of visiting a node, relative to one primitive test (a 4-box SIMD test costs
+/// about as much as one triangle test).
+constexpr double kTraversalCost = 1.0;
+
+}  // namespace
+
+int Bvh::build_binary(BuildContext& ctx, int begin, int end, int depth, std::vector<BinaryNode>& out) {
+    std::vector<BuildPrim>& prims = ctx.prims;
+    const int index = static_cast<int>(out.size());
+    out.emplace_back();
+    Aabb box, centroids;
+    for (int i = begin; i < end; ++i) {
+        box.expand(prims[i].box);
+        centroids.expand(prims[i].centroid);
+    }
+    out[index].box = box;
+    out[index].begin = begin;
+    out[index].end = end;
+    const int n = end - begin;
+    if (n == 1) return index;
+
+    const int largest = centroids.largest_axis();
+    auto median = [&](int axis) {
+        const int mid = begin + n / 2;
+        std::nth_element(prims.begin() + begin, prims.begin() + mid, prims.begin() + end,
+                         [axis](const BuildPrim& a, const BuildPrim& b) { return a.centroid[axis] < b.centroid[axis]; });
+        return mid;
+    };
+    int mid = begin + n / 2;
+    if (!(centroids.hi[largest] - centroids.lo[largest] > 0.f)) {
+        // All centroids coincide: no plane separates them; split the list in halves.
+        if (n <= kMaxLeafSize) return index;
+    } else if (depth >= kStackSize / 2) {
+        // Pathological distributions: median splits bound the depth (and the traversal stack).
+        mid = median(largest);
+    } else {
+        // Binned SAH on each axis: bin the centroids, sweep the kBins − 1 planes between bins.
+        int best_axis = -1, best_bin = -1;
+        double best_cost = kInfinity;
+        auto bin_of = [&](const BuildPrim& p, int axis) {
+            const float lo = centroids.lo[axis], extent = centroids.hi[axis] - lo;
+            const int b = static_cast<int>(kBins * ((p.centroid[axis] - lo) / extent));
+            return std::clamp(b, 0, kBins - 1);
+        };
+        int count[3][kBins] = {};
+        Aabb bin_box[3][kBins];
+        for (int i = begin; i < end; ++i)
+            for (int axis = 0; axis < 3; ++axis) {
+                if (!(centroids.hi[axis] - centroids.lo[axis] > 0.f)) continue;
+                const int b = bin_of(prims[i], axis);
+                ++count[axis][b];
+                bin_box[axis][b].expand(prims[i].box);
+            }
+        for (int axis = 0; axis < 3; ++axis) {
+            if (!(centroids.hi[axis] - centroids.lo[axis] > 0.f)) continue;
+            double cost_below[kBins - 1];
+            Aabb acc;
+            int acc_count = 0;
+            for (int b = 0; b < kBins - 1; ++b) {
+                acc.expand(bin_box[axis][b]);
+                acc_count += count[axis][b];
+                cost_below[b] = acc_count * acc.surface_area();
+            }
+            acc = Aabb{};
+            acc_count = 0;
+            for (int b = kBins - 2; b >= 0; --b) {
+                acc.expand(bin_box[axis][b + 1]);
+                acc_count += count[axis][b + 1];
+                const double cost = cost_below[b] + acc_count * acc.surface_area();
+                if (cost < best_cost) best_cost = cost, best_axis = axis, best_bin = b;
+            }
+        }
+        const double area = box.surface_area();
+        const double split_cost = kTraversalCost + (area > 0.0 ? best_cost / area : n);
+        if (n <= kMaxLeafSize && double(n) <= split_cost) return index;
+        const auto split = std::partition(prims.begin() + begin, prims.begin() + end, [&](const BuildPrim& p) {
+            return bin_of(p, best_axis) <= best_bin;
+        });
+        mid = static_cast<int>(split - prims.begin());
+        if (mid == begin || mid == end) mid = median(largest);
+    }
+
+    int left = -1, right = -1;
+    if (n >= kParallelMin && ctx.spare_threads.fetch_sub(1) > 0) {
+        // The second half on its own thread, into its own node list, appended afterwards.
+        std::vector<BinaryNode> second;
+        int second_root = -1;
+        std::thread worker([&] { second_root = build_binary(ctx, mid, end, depth + 1, second); });
+        left = build_binary(ctx, begin, mid, depth + 1, out);
+        worker.join();
+        ctx.spare_threads.fetch_add(1);
+        const int offset = static_cast<int>(out.size());
+        for (BinaryNode& node : second)
+            for (int& c : node.child)
+                if (c >= 0) c += offset;
+        out.insert(out.end(), second.begin(), second.end());
+        right = second_root + offset;
+    } else {
+        if (n >= kParallelMin) ctx.spare_threads.fetch_add(1);  // the failed claim
+        left = build_binary(ctx, begin, mid, depth + 1, out);
+        right = build_binary(ctx, mid, end, depth + 1, out);
+    }
+    out[index].child[0] = left;
+    out[index].child[1] = right;
+    return index;
+}
+
+std::uint32_t Bvh::collapse(const std::vector<BinaryNode>& tree, int node, const std::vector<BuildPrim>& prims,
+                            const BvhShapes& shapes, BvhBuildStats& stats) {
+    const auto index = static_cast<std::uint32_t>(m_nodes.size());
+    m_nodes.emplace_back();
+    for (int a = 0; a < 3; ++a) m_nodes[index].lo[a] = splat4(kInfinity), m_nodes[index].hi[a] = splat4(-kInfinity);
+    for (std::uint32_t& c : m_nodes[index].child) c = 0;
+    // The children: open the largest inner node among them until there are four.
+    int slots[4] = {node, -1, -1, -1}, n_slots = 1;
+    if (tree[node].child[0] >= 0) slots[0] = tree[node].child[0], slots[1] = tree[node].child[1], n_slots = 2;
+    while (n_slots < 4) {
+        int open = -1;
+        double open_area = -1.0;
+        for (int k = 0; k < n_slots; ++k)
+            if (tree[slots[k]].child[0] >= 0 && tree[slots[k]].box.surface_area() > open_area)
+                open = k, open_area = tree[slots[k]].box.surface_area();
+        if (open < 0) break;
+        const BinaryNode& opened = tree[slots[open]];
+        slots[open] = opened.child[0];
+        slots[n_slots++] = opened.child[1];
+    }
+    for (int k = 0; k < n_slots; ++k) {
+        const BinaryNode& c = tree[slots[k]];
+        std::uint32_t ref = 0;
+        if (c.child[0] >= 0) {
+            ref = collapse(tree, slots[k], prims, shapes, stats) << 4;
+        } else {
+            const auto offset = static_cast<std::uint32_t>(m_leaf.size());
+            for (int i = c.begin; i < c.end; ++i) {
+                BvhLeafPrim lp{};
+                lp.prim = prims[i].ref;
+                if (lp.prim.kind() == ShapeKind::triangle) {
+                    const Triangle& t = shapes.triangles[lp.prim.index()];
+                    if (has_zero_float_area(t.p0, t.p1, t.p2)) continue;  // never hit
+                    lp.p0 = t.p0, lp.p1 = t.p1, lp.p2 = t.p2;
+                }
+                m_leaf.push_back(lp);
+            }
+            const auto count = static_cast<std::uint32_t>(m_leaf.size()) - offset;
+            if (count == 0) continue;  // the slot stays empty
+            ref = offset << 4 | count;
+            ++stats.leaves;
+        }
+        WideBvhNode& wide = m_nodes[index];
+        for (int a = 0; a < 3; ++a) wide.lo[a][k] = c.box.lo[a], wide.hi[a][k] = c.box.hi[a];
+        wide.child[k] = ref;
+    }
+    return index;
+}
+
 BvhBuildStats Bvh::build(const BvhShapes& shapes) {
     BvhBuildStats stats;
     m_nodes.clear();
-    m_prims.clear();
-    std::vector<BuildPrim> prims;
+    m_leaf.clear();
+    BuildContext ctx;
+    std::vector<BuildPrim>& prims = ctx.prims;
     prims.reserve(shapes.spheres.size() + shapes.triangles.size() + shapes.disks.size() +
                   shapes.cylinders.size() + shapes.cones.size());
     auto add = [&prims](auto list, ShapeKind kind) {
@@ -86,95 +258,26 @@ BvhBuildStats Bvh::build(const BvhShapes& shapes) {
     add(shapes.disks, ShapeKind::disk);
     add(shapes.cylinders, ShapeKind::cylinder);
     add(shapes.cones, ShapeKind::cone);
+    add(shapes.instances, ShapeKind::instance);
     if (prims.empty()) return stats;
-    m_nodes.reserve(prims.size());  // about n nodes for leaves of ~2 primitives
-    m_prims.reserve(prims.size());
-    build_node(prims, 0, static_cast<int>(prims.size()), 0, stats);
+    // Leaf references keep the entry index in 28 bits (and a count in 4).
+    if (prims.size() >= (std::size_t(1) << 28)) throw std::length_error("BVH: more than 2^28 primitives");
+    ctx.spare_threads = std::max(1, static_cast<int>(std::thread::hardware_concurrency())) - 1;
+    std::vector<BinaryNode> tree;
+    tree.reserve(prims.size() / 2);
+    build_binary(ctx, 0, static_cast<int>(prims.size()), 0, tree);
+    // Depth of the binary tree (a child is always stored after its parent).
+    std::vector<int> depth(tree.size(), 0);
+    for (std::size_t i = 0; i < tree.size(); ++i)
+        for (const int c : tree[i].child)
+            if (c >= 0) depth[c] = depth[i] + 1, stats.max_depth = std::max(stats.max_depth, depth[c]);
+    m_leaf.reserve(prims.size());
+    m_nodes.reserve(tree.size() / 3 + 1);
+    collapse(tree, 0, prims, shapes, stats);
     m_nodes.shrink_to_fit();
+    m_leaf.shrink_to_fit();
     stats.nodes = static_cast<int>(m_nodes.size());
     return stats;
-}
-
-int Bvh::build_node(std::vector<BuildPrim>& prims, int begin, int end, int depth, BvhBuildStats& stats) {
-    const int index = static_cast<int>(m_nodes.size());
-    m_nodes.emplace_back();
-    Aabb box, centroids;
-    for (int i = begin; i < end; ++i) {
-        box.expand(prims[i].box);
-        centroids.expand(prims[i].centroid);
-    }
-    for (int a = 0; a < 3; ++a) m_nodes[index].lo[a] = box.lo[a], m_nodes[index].hi[a] = box.hi[a];
-    stats.max_depth = std::max(stats.max_depth, depth);
-    const int n = end - begin;
-    auto make_leaf = [&] {
-        BvhNode& node = m_nodes[index];
-        node.offset = static_cast<std::uint32_t>(m_prims.size());
-        node.count = static_cast<std::uint16_t>(n);
-        for (int i = begin; i < end; ++i) m_prims.push_back(prims[i].ref);
-        ++stats.leaves;
-        return index;
-    };
-    if (n == 1) return make_leaf();
-
-    const int axis = centroids.largest_axis();
-    const float c_lo = centroids.lo[axis], extent = centroids.hi[axis] - centroids.lo[axis];
-    auto by_centroid = [axis](const BuildPrim& a, const BuildPrim& b) { return a.centroid[axis] < b.centroid[axis]; };
-    int mid = begin + n / 2;
-    if (!(extent > 0.f)) {
-        // All centroids coincide: no plane separates them; split the list in halves.
-        if (n <= kMaxLeafSize) return make_leaf();
-    } else if (depth >= kStackSize / 2) {
-        // Pathological distributions: median splits bound the depth (and the traversal stack).
-        std::nth_element(prims.begin() + begin, prims.begin() + mid, prims.begin() + end, by_centroid);
-    } else {
-        // Binned SAH: bin the centroids along the axis, sweep the kBins − 1 planes between bins.
-        auto bin_of = [&](const BuildPrim& p) {
-            const int b = static_cast<int>(kBins * ((p.centroid[axis] - c_lo) / extent));
-            return std::clamp(b, 0, kBins - 1);
-        };
-        int count[kBins] = {};
-        Aabb bin_box[kBins];
-        for (int i = begin; i < end; ++i) {
-            const int b = bin_of(prims[i]);
-            ++count[b];
-            bin_box[b].expand(prims[i].box);
-        }
-        double cost_below[kBins - 1];
-        Aabb acc;
-        int acc_count = 0;
-        for (int b = 0; b < kBins - 1; ++b) {
-            acc.expand(bin_box[b]);
-            acc_count += count[b];
-            cost_below[b] = acc_count * acc.surface_area();
-        }
-        acc = Aabb{};
-        acc_count = 0;
-        int best = -1;
-        double best_cost = kInfinity;
-        for (int b = kBins - 2; b >= 0; --b) {
-            acc.expand(bin_box[b + 1]);
-            acc_count += count[b + 1];
-            const double cost = cost_below[b] + acc_count * acc.surface_area();
-            if (cost < best_cost) best_cost = cost, best = b;
-        }
-        // Relative costs (pbrt-v4): traversal 1/2, one unit per primitive test.
-        const double area = box.surface_area();
-        best_cost = 0.5 + (area > 0.0 ? best_cost / area : n);
-        if (n <= kMaxLeafSize && double(n) <= best_cost) return make_leaf();
-        const auto split = std::partition(prims.begin() + begin, prims.begin() + end,
-                                          [&](const BuildPrim& p) { return bin_of(p) <= best; });
-        mid = static_cast<int>(split - prims.begin());
-        if (mid == begin || mid == end) {
-            mid = begin + n / 2;
-            std::nth_element(prims.begin() + begin, prims.begin() + mid, prims.begin() + end, by_centroid);
-        }
-    }
-    build_node(prims, begin, mid, depth + 1, stats);
-    const int second = build_node(prims, mid, end, depth + 1, stats);
-    m_nodes[index].offset = static_cast<std::uint32_t>(second);
-    m_nodes[index].count = 0;
-    m_nodes[index].axis = static_cast<std::uint8_t>(axis);
-    return index;
 }
 
 namespace {
@@ -187,76 +290,153 @@ inline double quadric_t(const Ray& ray, const BvhShapes& shapes, PrimId p) {
         case ShapeKind::disk: return shapes.disks[p.index()].intersect_t(ray);
         case ShapeKind::cylinder: return shapes.cylinders[p.index()].intersect_t(ray);
         case ShapeKind::cone: return shapes.cones[p.index()].intersect_t(ray);
-        default: return kInfinity;  // planes are never in the tree
+        default: return kInfinity;  // planes are never in the tree; instances are handled apart
     }
 }
+
+/// The ray's slab constants in four lanes (RaySlabs, splatted once per ray).
+struct RayLanes {
+    Float4 o[3], inv_d[3];
+    bool negative[3];  ///< the direction is negative on the axis: hi is met first
+    explicit RayLanes(const Ray& ray) {
+        const RaySlabs slabs(ray);
+        for (int a = 0; a < 3; ++a) {
+            o[a] = splat4(slabs.o[a]);
+            inv_d[a] = splat4(slabs.inv_d[a]);
+            negative[a] = slabs.near[a] == 1;
+        }
+    }
+};
+
+/// slab_hit (aabb.h) for the four children at once, lane by lane with the same operations
+/// (so the same conservative result); returns one bit per child hit and, in t_entry, where the
+/// ray enters each box.
+inline unsigned hit_children(const WideBvhNode& node, const RayLanes& r, float t_max, Float4& t_entry) {
+    constexpr float kGrow = 1.f + 2.f * gamma_bound(3);
+    Float4 t0 = splat4(0.f), t1 = splat4(t_max);
+    for (int a = 0; a < 3; ++a) {
+        const Float4 b_near = r.negative[a] ? node.hi[a] : node.lo[a];
+        const Float4 b_far = r.negative[a] ? node.lo[a] : node.hi[a];
+        const Float4 t_near = (b_near - r.o[a]) * r.inv_d[a];
+        const Float4 t_far = (b_far - r.o[a]) * r.inv_d[a] * kGrow;
+        t0 = t_near > t0 ? t_near : t0;  // a NaN never shrinks the interval
+        t1 = t_far < t1 ? t_far : t1;
+    }
+    t_entry = t0;
+    return lane_bits(t0 <= t1);
+}
+
+/// A child waiting on the traversal stack: its reference and where the ray enters its box.
+struct StackEntry {
+    std::uint32_t ref;
+    float t;
+};
+constexpr std::uint32_t kCountMask = 15;
 
 }  // namespace
 
 bool Bvh::intersect(const Ray& ray, const BvhShapes& shapes, double& t_best, BvhHit& hit) const {
     if (m_nodes.empty()) return false;
-    const RaySlabs slabs(ray);
+    const RayLanes lanes(ray);
+    const ShearedRay sheared(ray);
     // The box test's limit in float, never below the double t_best.
     float t_limit = next_float_up(static_cast<float>(t_best));
-    std::uint32_t stack[kStackSize];
+    // Each node pushes at most three children; the depth is below kStackSize.
+    StackEntry stack[3 * kStackSize];
     int sp = 0;
-    std::uint32_t current = 0;
+    std::uint32_t ref = 0;  // the root
     bool found = false;
     while (true) {
-        const BvhNode& node = m_nodes[current];
-        if (node.hit_by(slabs, t_limit)) {
-            if (node.count == 0) {
-                // Visit the child on the near side of the split first.
-                if (slabs.near[node.axis]) stack[sp++] = current + 1, current = node.offset;
-                else stack[sp++] = node.offset, current = current + 1;
+        if ((ref & kCountMask) == 0) {
+            Float4 t_entry;
+            unsigned mask = hit_children(m_nodes[ref >> 4], lanes, t_limit, t_entry);
+            if (mask != 0) {
+                // The children hit, nearest first: continue with the nearest, stack the others.
+                StackEntry near[4];
+                int n = 0;
+                const WideBvhNode& node = m_nodes[ref >> 4];
+                for (; mask != 0; mask &= mask - 1) {
+                    const int k = __builtin_ctz(mask);
+                    StackEntry e{node.child[k], t_entry[k]};
+                    int j = n++;
+                    for (; j > 0 && near[j - 1].t > e.t; --j) near[j] = near[j - 1];
+                    near[j] = e;
+                }
+                for (int i = n - 1; i > 0; --i) stack[sp++] = near[i];
+                ref = near[0].ref;
                 continue;
             }
-            for (std::uint32_t i = node.offset, e = node.offset + node.count; i < e; ++i) {
-                const PrimId p = m_prims[i];
-                if (p.kind() == ShapeKind::triangle) {
-                    if (const auto ti = shapes.triangles[p.index()].intersect(ray, t_best)) {
-                        t_best = ti->t, hit.prim = p, hit.tri = *ti, found = true;
+        } else {
+            const BvhLeafPrim* lp = m_leaf.data() + (ref >> 4);
+            for (const BvhLeafPrim* end = lp + (ref & kCountMask); lp != end; ++lp) {
+                if (lp->prim.kind() == ShapeKind::triangle) {
+                    if (const auto ti = intersect_triangle(lp->p0, lp->p1, lp->p2, sheared, t_best)) {
+                        t_best = ti->t, hit.prim = lp->prim, hit.tri = *ti, hit.instance = BvhHit::kNoInstance;
+                        found = true;
                         t_limit = next_float_up(static_cast<float>(t_best));
                     }
-                } else if (const double t = quadric_t(ray, shapes, p); t < t_best) {
-                    t_best = t, hit.prim = p, found = true;
+                } else if (lp->prim.kind() == ShapeKind::instance) [[unlikely]] {
+                    // The instance's own tree, with the ray in its object space.
+                    const MeshInstance& inst = shapes.instances[lp->prim.index()];
+                    const InstancedMesh& mesh = shapes.meshes[inst.mesh];
+                    if (mesh.bvh.intersect(inst.to_object_ray(ray), mesh.shapes(), t_best, hit)) {
+                        hit.instance = lp->prim.index(), found = true;
+                        t_limit = next_float_up(static_cast<float>(t_best));
+                    }
+                } else if (const double t = quadric_t(ray, shapes, lp->prim); t < t_best) {
+                    t_best = t, hit.prim = lp->prim, hit.instance = BvhHit::kNoInstance, found = true;
                     t_limit = next_float_up(static_cast<float>(t_best));
                 }
             }
         }
-        if (sp == 0) break;
-        current = stack[--sp];
+        // The next stacked child the ray still enters before the nearest hit so far (a box
+        // entered beyond t_limit would fail its test now).
+        do {
+            if (sp == 0) {
+                if (found) hit.t = t_best;
+                return found;
+            }
+            --sp;
+        } while (stack[sp].t > t_limit);
+        ref = stack[sp].ref;
     }
-    if (found) hit.t = t_best;
-    return found;
 }
 
 bool Bvh::occluded(const Ray& ray, const BvhShapes& shapes) const {
     if (m_nodes.empty()) return false;
-    const RaySlabs slabs(ray);
+    const RayLanes lanes(ray);
+    const ShearedRay sheared(ray);
     const float t_limit = next_float_up(ray.t_max);
-    std::uint32_t stack[kStackSize];
+    std::uint32_t stack[3 * kStackSize];
     int sp = 0;
-    std::uint32_t current = 0;
+    std::uint32_t ref = 0;
     while (true) {
-        const BvhNode& node = m_nodes[current];
-        if (node.hit_by(slabs, t_limit)) {
-            if (node.count == 0) {
-                if (slabs.near[node.axis]) stack[sp++] = current + 1, current = node.offset;
-                else stack[sp++] = node.offset, current = current + 1;
+        if ((ref & kCountMask) == 0) {
+            Float4 t_entry;
+            const WideBvhNode& node = m_nodes[ref >> 4];
+            if (unsigned mask = hit_children(node, lanes, t_limit, t_entry); mask != 0) {
+                // Any order will do: the first hit ends the walk.
+                ref = node.child[__builtin_ctz(mask)];
+                for (mask &= mask - 1; mask != 0; mask &= mask - 1) stack[sp++] = node.child[__builtin_ctz(mask)];
                 continue;
             }
-            for (std::uint32_t i = node.offset, e = node.offset + node.count; i < e; ++i) {
-                const PrimId p = m_prims[i];
-                if (p.kind() == ShapeKind::triangle ? shapes.triangles[p.index()].intersect(ray, ray.t_max).has_value()
-                                                    : quadric_t(ray, shapes, p) < ray.t_max)
-                    return true;  // any hit will do
+        } else {
+            const BvhLeafPrim* lp = m_leaf.data() + (ref >> 4);
+            for (const BvhLeafPrim* end = lp + (ref & kCountMask); lp != end; ++lp) {
+                if (lp->prim.kind() == ShapeKind::triangle) {
+                    if (intersect_triangle(lp->p0, lp->p1, lp->p2, sheared, ray.t_max)) return true;
+                } else if (lp->prim.kind() == ShapeKind::instance) [[unlikely]] {
+                    const MeshInstance& inst = shapes.instances[lp->prim.index()];
+                    const InstancedMesh& mesh = shapes.meshes[inst.mesh];
+                    if (mesh.bvh.occluded(inst.to_object_ray(ray), mesh.shapes())) return true;
+                } else if (quadric_t(ray, shapes, lp->prim) < ray.t_max) {
+                    return true;
+                }
             }
         }
-        if (sp == 0) break;
-        current = stack[--sp];
+        if (sp == 0) return false;
+        ref = stack[--sp];
     }
-    return false;
 }
 
 }  // namespace spt

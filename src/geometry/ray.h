@@ -12,8 +12,9 @@ struct Ray {
     float t_max = kInfinity;
 };
 
-/// Which shape array a primitive index refers to (moving: Scene::moving_shapes).
-enum class ShapeKind : unsigned char { sphere, plane, triangle, disk, cylinder, cone, moving };
+/// Which shape array a primitive index refers to. `moving`: Scene::moving_shapes; `instance`:
+/// a MeshInstance (a placed InstancedMesh), in the top level of the BVH only.
+enum class ShapeKind : unsigned char { sphere, plane, triangle, disk, cylinder, cone, moving, instance };
 
 /// A primitive of the scene: its shape kind and its index in that kind's array, in 32 bits
 /// (the BVH's primitive lists hold these too).

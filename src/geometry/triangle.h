@@ -35,6 +35,80 @@ struct TriangleAttributes {
     }
 };
 
+/// The ray's part of the watertight test, computed once per ray (a BVH tests many triangles
+/// with it): translate to the ray origin, permute so that z is the largest direction
+/// component and shear so that the ray becomes the +z axis.
+struct ShearedRay {
+    Vec3 o;
+    int kx = 0, ky = 1, kz = 2;
+    float sx = 0.f, sy = 0.f, sz = 0.f;
+    bool valid = false;  ///< false for d = 0 (not a ray): nothing is hit
+
+    explicit ShearedRay(const Ray& ray) : o(ray.o) {
+        const Vec3 ad = abs(ray.d);
+        kz = ad.x > ad.y ? (ad.x > ad.z ? 0 : 2) : (ad.y > ad.z ? 1 : 2);
+        kx = kz == 2 ? 0 : kz + 1, ky = kx == 2 ? 0 : kx + 1;
+        const float dx = ray.d[kx], dy = ray.d[ky], dz = ray.d[kz];
+        valid = dz != 0.f;
+        if (valid) sx = -dx / dz, sy = -dy / dz, sz = 1.f / dz;
+    }
+};
+
+/// pbrt's zero-area check, in float: such a triangle is never hit (rounding could otherwise
+/// make it hittable). A BVH drops these when it is built.
+inline bool has_zero_float_area(const Vec3& p0, const Vec3& p1, const Vec3& p2) {
+    return length_squared(cross(p2 - p0, p1 - p0)) == 0.f;
+}
+
+/// The watertight test of the triangle (p0, p1, p2) without the zero-area check: an
+/// intersection with t in (0, t_max), or nullopt.
+inline std::optional<TriangleIntersection> intersect_triangle(const Vec3& p0, const Vec3& p1, const Vec3& p2,
+                                                              const ShearedRay& r, double t_max) {
+    if (!r.valid) return std::nullopt;
+    auto shear = [&](const Vec3& p, float& x, float& y, float& z) {
+        const Vec3 q = p - r.o;
+        z = q[r.kz];
+        x = q[r.kx] + r.sx * z;
+        y = q[r.ky] + r.sy * z;
+    };
+    float x0, y0, z0, x1, y1, z1, x2, y2, z2;
+    shear(p0, x0, y0, z0);
+    shear(p1, x1, y1, z1);
+    shear(p2, x2, y2, z2);
+    const float sz = r.sz;
+
+    // Edge functions: exact products, one rounding each, so the signs are exact.
+    const double e0 = double(x1) * y2 - double(y1) * x2;
+    const double e1 = double(x2) * y0 - double(y2) * x0;
+    const double e2 = double(x0) * y1 - double(y0) * x1;
+    if ((e0 < 0 || e1 < 0 || e2 < 0) && (e0 > 0 || e1 > 0 || e2 > 0)) return std::nullopt;
+    const double det = e0 + e1 + e2;
+    if (det == 0.0) return std::nullopt;
+
+    // Scaled distance, compared with t_max before dividing.
+    const double zs0 = double(sz) * z0, zs1 = double(sz) * z1, zs2 = double(sz) * z2;
+    const double t_scaled = e0 * zs0 + e1 * zs1 + e2 * zs2;
+    if (det < 0 && (t_scaled >= 0 || t_scaled < t_max * det)) return std::nullopt;
+    if (det > 0 && (t_scaled <= 0 || t_scaled > t_max * det)) return std::nullopt;
+    const double inv_det = 1.0 / det;
+    const double t = t_scaled * inv_det;
+
+    // t must be positive beyond its rounding error (pbrt-v4, after Woop et al.): the
+    // deltas bound the float error of the sheared coordinates and of the edge functions.
+    const double max_z = std::max({std::fabs(zs0), std::fabs(zs1), std::fabs(zs2)});
+    const double max_x = std::max({std::fabs(double(x0)), std::fabs(double(x1)), std::fabs(double(x2))});
+    const double max_y = std::max({std::fabs(double(y0)), std::fabs(double(y1)), std::fabs(double(y2))});
+    const double delta_z = gamma_bound(3) * max_z;
+    const double delta_x = gamma_bound(5) * (max_x + max_z);
+    const double delta_y = gamma_bound(5) * (max_y + max_z);
+    const double delta_e = 2 * (gamma_bound(2) * max_x * max_y + delta_y * max_x + delta_x * max_y);
+    const double max_e = std::max({std::fabs(e0), std::fabs(e1), std::fabs(e2)});
+    const double delta_t =
+        3 * (gamma_bound(3) * max_e * max_z + delta_e * max_z + delta_z * max_e) * std::fabs(inv_det);
+    if (t <= delta_t) return std::nullopt;
+    return TriangleIntersection{t, e0 * inv_det, e1 * inv_det, e2 * inv_det};
+}
+
 struct Triangle {
     Vec3 p0, p1, p2;  ///< counter-clockwise seen from the front (the side n points to)
     int material = -1;
@@ -60,56 +134,8 @@ struct Triangle {
     /// Intersection with t in (0, t_max), or nullopt.
     std::optional<TriangleIntersection> intersect(const Ray& ray, double t_max) const {
         // Zero-area triangles (pbrt's check): rounding could otherwise make them hittable.
-        if (length_squared(cross(p2 - p0, p1 - p0)) == 0.f) return std::nullopt;
-        // Translate to the ray origin, permute so that z is the largest direction component
-        // and shear so that the ray becomes the +z axis.
-        const Vec3 ad = abs(ray.d);
-        const int kz = ad.x > ad.y ? (ad.x > ad.z ? 0 : 2) : (ad.y > ad.z ? 1 : 2);
-        const int kx = kz == 2 ? 0 : kz + 1, ky = kx == 2 ? 0 : kx + 1;
-        const float dx = ray.d[kx], dy = ray.d[ky], dz = ray.d[kz];
-        if (dz == 0.f) return std::nullopt;  // d = 0 (not a ray)
-        const float sx = -dx / dz, sy = -dy / dz, sz = 1.f / dz;
-        auto shear = [&](const Vec3& p, float& x, float& y, float& z) {
-            const Vec3 q = p - ray.o;
-            z = q[kz];
-            x = q[kx] + sx * z;
-            y = q[ky] + sy * z;
-        };
-        float x0, y0, z0, x1, y1, z1, x2, y2, z2;
-        shear(p0, x0, y0, z0);
-        shear(p1, x1, y1, z1);
-        shear(p2, x2, y2, z2);
-
-        // Edge functions: exact products, one rounding each, so the signs are exact.
-        const double e0 = double(x1) * y2 - double(y1) * x2;
-        const double e1 = double(x2) * y0 - double(y2) * x0;
-        const double e2 = double(x0) * y1 - double(y0) * x1;
-        if ((e0 < 0 || e1 < 0 || e2 < 0) && (e0 > 0 || e1 > 0 || e2 > 0)) return std::nullopt;
-        const double det = e0 + e1 + e2;
-        if (det == 0.0) return std::nullopt;
-
-        // Scaled distance, compared with t_max before dividing.
-        const double zs0 = double(sz) * z0, zs1 = double(sz) * z1, zs2 = double(sz) * z2;
-        const double t_scaled = e0 * zs0 + e1 * zs1 + e2 * zs2;
-        if (det < 0 && (t_scaled >= 0 || t_scaled < t_max * det)) return std::nullopt;
-        if (det > 0 && (t_scaled <= 0 || t_scaled > t_max * det)) return std::nullopt;
-        const double inv_det = 1.0 / det;
-        const double t = t_scaled * inv_det;
-
-        // t must be positive beyond its rounding error (pbrt-v4, after Woop et al.): the
-        // deltas bound the float error of the sheared coordinates and of the edge functions.
-        const double max_z = std::max({std::fabs(zs0), std::fabs(zs1), std::fabs(zs2)});
-        const double max_x = std::max({std::fabs(double(x0)), std::fabs(double(x1)), std::fabs(double(x2))});
-        const double max_y = std::max({std::fabs(double(y0)), std::fabs(double(y1)), std::fabs(double(y2))});
-        const double delta_z = gamma_bound(3) * max_z;
-        const double delta_x = gamma_bound(5) * (max_x + max_z);
-        const double delta_y = gamma_bound(5) * (max_y + max_z);
-        const double delta_e = 2 * (gamma_bound(2) * max_x * max_y + delta_y * max_x + delta_x * max_y);
-        const double max_e = std::max({std::fabs(e0), std::fabs(e1), std::fabs(e2)});
-        const double delta_t =
-            3 * (gamma_bound(3) * max_e * max_z + delta_e * max_z + delta_z * max_e) * std::fabs(inv_det);
-        if (t <= delta_t) return std::nullopt;
-        return TriangleIntersection{t, e0 * inv_det, e1 * inv_det, e2 * inv_det};
+        if (has_zero_float_area(p0, p1, p2)) return std::nullopt;
+        return intersect_triangle(p0, p1, p2, ShearedRay(ray), t_max);
     }
 
     /// Distance to the hit, or infinity (the cheap part of intersect(), for nearest-hit search).

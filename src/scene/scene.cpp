@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <sstream>
+#include <type_traits>
 
 #include "geometry/aabb.h"
 
@@ -89,6 +90,7 @@ int Scene::add_emitter(ShapeKind kind, Spectrum radiance) {
         case ShapeKind::cylinder: lights.emplace_back(QuadricLight{Cylinder{}, std::move(radiance)}); break;
         case ShapeKind::cone: lights.emplace_back(QuadricLight{Cone{}, std::move(radiance)}); break;
         case ShapeKind::moving: throw SceneError("a moving shape cannot emit light");
+        case ShapeKind::instance: throw SceneError("an instanced mesh cannot emit light");
     }
     return static_cast<int>(lights.size()) - 1;
 }
@@ -112,6 +114,7 @@ void Scene::surface_uv(const Hit& hit, float& u, float& v) const {
         case ShapeKind::cone: return cones[i].uv(hit.p, u, v);
         case ShapeKind::moving: u = v = 0.f; return;  // its rest frame at the hit's time is gone
         case ShapeKind::triangle: break;
+        case ShapeKind::instance: u = v = 0.f; return;  // not kept for instances (see scenes/README.md)
     }
     const Triangle& t = triangles[i];
     if (t.attributes >= 0 && triangle_attributes[static_cast<std::size_t>(t.attributes)].has_uv) {
@@ -154,6 +157,7 @@ void validate_material(const Material& m) {
 std::optional<Hit> Scene::intersect_bvh(const Ray& ray, double t_best, int best_plane) const {
     BvhHit h;
     if (m_bvh.intersect(ray, bvh_shapes(), t_best, h)) {
+        if (h.instance != BvhHit::kNoInstance) [[unlikely]] return instance_hit(h);
         const auto i = h.prim.index();
         switch (h.prim.kind()) {
             case ShapeKind::triangle: return triangle_hit(triangles[i], h.tri);
@@ -169,6 +173,44 @@ std::optional<Hit> Scene::intersect_bvh(const Ray& ray, double t_best, int best_
 }
 
 bool Scene::occluded_bvh(const Ray& ray) const { return m_bvh.occluded(ray, bvh_shapes()); }
+
+Hit Scene::instance_hit(const BvhHit& h) const {
+    const MeshInstance& inst = instances[h.instance];
+    const Triangle& tri = instanced_meshes[static_cast<std::size_t>(inst.mesh)].triangles[h.prim.index()];
+    const Hit local = tri.make_hit(h.tri);
+    Hit hit = local;
+    // The point mapped in double: its object-space error carried by |A| (rounded up by one
+    // part in 2^20), the double arithmetic's error and the rounding to float.
+    const DVec3 p(local.p);
+    hit.p = inst.to_world.point(p).to_float();
+    const DVec3 reach = inst.to_world.abs_vector(DVec3(abs(local.p)));
+    const double magnitude = std::max({reach.x + std::fabs(inst.to_world.a[0][3]),
+                                       reach.y + std::fabs(inst.to_world.a[1][3]),
+                                       reach.z + std::fabs(inst.to_world.a[2][3])});
+    hit.p_err = inst.to_world.abs_vector(DVec3(local.p_err)).to_float() * (1.f + 0x1p-20f) +
+                double_point_error(hit.p, magnitude);
+    hit.n = normalize(inst.to_world.cofactor_vector(DVec3(local.n))).to_float();
+    hit.ns = hit.n;
+    if (tri.attributes >= 0) [[unlikely]] {
+        const TriangleAttributes& a = triangle_attributes[static_cast<std::size_t>(tri.attributes)];
+        if (a.has_normals) {
+            const Vec3 ns = a.shading_normal(h.tri.b0, h.tri.b1, h.tri.b2, local.n);
+            hit.ns = face_forward(normalize(inst.to_world.cofactor_vector(DVec3(ns))).to_float(), hit.n);
+        }
+    }
+    hit.light = -1;
+    hit.prim = PrimId(ShapeKind::instance, h.instance);
+    return hit;
+}
+
+std::size_t Scene::geometry_bytes() const {
+    std::size_t bytes = 0;
+    for_each_shape_array([&bytes](const auto& shapes) { bytes += shapes.capacity() * sizeof(shapes[0]); });
+    bytes += triangle_attributes.capacity() * sizeof(TriangleAttributes) + m_bvh.memory_bytes() +
+             instances.capacity() * sizeof(MeshInstance) + instanced_meshes.capacity() * sizeof(InstancedMesh);
+    for (const InstancedMesh& m : instanced_meshes) bytes += m.bvh.memory_bytes();
+    return bytes;
+}
 
 void Scene::finalize() {
     for (Material& m : materials) {
@@ -228,6 +270,24 @@ void Scene::finalize() {
         check_axis(c.axis, "cone axis"), check_size(c.radius, "cone radius"), check_size(c.height, "cone height");
         check_material_index(c.material, "a cone");
     }
+    for (InstancedMesh& mesh : instanced_meshes) {
+        require(!mesh.triangles.empty(), "an instanced mesh has no triangles");
+        mesh.bounds = Aabb{};
+        for (const Triangle& t : mesh.triangles) {
+            check_triangle(t);
+            require(t.light < 0, "an instanced mesh cannot emit light");
+            mesh.bounds.expand(bounds(t));
+        }
+        mesh.bvh.build(mesh.shapes());
+    }
+    for (MeshInstance& inst : instances) {
+        require(inst.mesh >= 0 && inst.mesh < static_cast<int>(instanced_meshes.size()),
+                "an instance refers to a mesh that does not exist");
+        const double det = inst.to_world.determinant();
+        require(std::isfinite(det) && det != 0.0, "an instance's transform must be finite and invertible");
+        inst.world_bounds = instance_bounds(inst.to_world, instanced_meshes[static_cast<std::size_t>(inst.mesh)].bounds);
+        require(finite(inst.world_bounds.lo) && finite(inst.world_bounds.hi), "an instance must be finite after its transform");
+    }
     require(width > 0 && height > 0 && spp > 0, "image size and spp must be positive");
     require(finite(camera.position) && finite(camera.look_at) && finite(camera.up),
             "camera vectors must be finite");
@@ -265,7 +325,7 @@ void Scene::finalize() {
     m_bvh = Bvh{};
     const bool quadrics = !disks.empty() || !cylinders.empty() || !cones.empty();
     const auto bvh_start = std::chrono::steady_clock::now();
-    if (spheres.size() + triangles.size() > kBvhThreshold || quadrics) m_bvh.build(bvh_shapes());
+    if (spheres.size() + triangles.size() > kBvhThreshold || quadrics || !instances.empty()) m_bvh.build(bvh_shapes());
     bvh_build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - bvh_start).count();
     m_use_bvh = !m_bvh.empty();
     m_out_of_line = m_use_bvh || !moving_shapes.empty();
@@ -299,14 +359,17 @@ void Scene::finalize() {
         }
     };
     for_each_shape_array(material_effects);
-    for (const MovingShape& m : moving_shapes) material_effects(m.spheres), material_effects(m.triangles);
     finalize_media();
     effects.media = !media.empty();
     require(!(effects.media && effects.motion_blur),
             "participating media and motion blur cannot be rendered together yet; expected one of them");
-    for (const Triangle& t : triangles)
-        effects.shading_normals |=
-            t.attributes >= 0 && triangle_attributes[static_cast<std::size_t>(t.attributes)].has_normals;
+    // Triangles of meshes, instanced meshes and moving shapes alike.
+    for_each_shape_array([&](const auto& shapes) {
+        if constexpr (std::is_same_v<std::decay_t<decltype(shapes[0])>, Triangle>)
+            for (const Triangle& t : shapes)
+                effects.shading_normals |=
+                    t.attributes >= 0 && triangle_attributes[static_cast<std::size_t>(t.attributes)].has_normals;
+    });
 }
 
 void Scene::finalize_media() {
@@ -354,6 +417,7 @@ void Scene::finalize_lights() {
     }
     for (const Triangle& t : triangles) box.expand(t.p0), box.expand(t.p1), box.expand(t.p2);
     for (const MovingShape& m : moving_shapes) box.expand(m.swept);
+    for (const MeshInstance& i : instances) box.expand(i.world_bounds);
     for (const Disk& d : disks) box.expand(bounds(d));
     for (const Cylinder& c : cylinders) box.expand(bounds(c));
     for (const Cone& c : cones) box.expand(bounds(c));

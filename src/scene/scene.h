@@ -12,6 +12,7 @@
 #include "geometry/cylinder.h"
 #include "geometry/disk.h"
 #include "geometry/moving_shape.h"
+#include "geometry/instanced_mesh.h"
 #include "geometry/plane.h"
 #include "geometry/sphere.h"
 #include "geometry/sphere_lanes.h"
@@ -68,6 +69,12 @@ struct Scene {
     std::vector<Triangle> triangles;
     /// Vertex normals and (u, v) of mesh triangles (Triangle::attributes indexes it).
     std::vector<TriangleAttributes> triangle_attributes;
+    /// Meshes placed by `instances` (a two-level BVH): each mesh's triangles are stored once,
+    /// in its own space, however many times it is placed. Instances do not emit light.
+    std::vector<InstancedMesh> instanced_meshes;
+    std::vector<MeshInstance> instances;
+    /// Bytes held by the shapes and the acceleration structures (not materials or lights).
+    std::size_t geometry_bytes() const;
     /// Every light: point lights, the emitters attached to shapes (a shape's `light` is its
     /// index here) and the environment. finalize() copies each emitting shape's geometry
     /// into its light, so shapes may change until then.
@@ -211,15 +218,21 @@ private:
     [[gnu::noinline]] bool occluded_out_of_line(const Ray& ray, int skip_sphere, float time) const;
     /// Moving shape i at `time`: its nearest hit before t_max, in world space.
     std::optional<Hit> intersect_moving(std::size_t i, const Ray& ray, float time, double t_max) const;
-    BvhShapes bvh_shapes() const { return {spheres, triangles, disks, cylinders, cones}; }
+    BvhShapes bvh_shapes() const {
+        return {spheres, triangles, disks, cylinders, cones, instances, instanced_meshes.data()};
+    }
     /// Calls f with each array of shapes (every shape has a material and a light).
     template <typename F>
     void for_each_shape_array(F&& f) {
         f(spheres), f(planes), f(disks), f(cylinders), f(cones), f(triangles);
+        for (InstancedMesh& m : instanced_meshes) f(m.triangles);
+        for (MovingShape& m : moving_shapes) f(m.spheres), f(m.triangles);
     }
     template <typename F>
     void for_each_shape_array(F&& f) const {
         f(spheres), f(planes), f(disks), f(cylinders), f(cones), f(triangles);
+        for (const InstancedMesh& m : instanced_meshes) f(m.triangles);
+        for (const MovingShape& m : moving_shapes) f(m.spheres), f(m.triangles);
     }
     /// The hit record of a triangle: its primitive, and its shading normal on meshes with
     /// vertex normals.
@@ -244,6 +257,8 @@ private:
     /// out of line so that the small-scene path stays small enough to inline.
     [[gnu::noinline]] std::optional<Hit> intersect_bvh(const Ray& ray, double t_best, int best_plane) const;
     [[gnu::noinline]] bool occluded_bvh(const Ray& ray) const;
+    /// The world-space hit record of a triangle of an instance (BvhHit::instance).
+    Hit instance_hit(const BvhHit& h) const;
 
     AxisPlanes m_axis_planes;              ///< built by finalize()
     SphereLanes m_sphere_lanes;            ///< built by finalize() when there is no BVH

@@ -585,11 +585,22 @@ private:
                        c = point(vs.items()[2], what + " vertex");
             add_triangle(a, b, c, shape_surface(v, what, ShapeKind::triangle), v.pos(), what);
         } else if (type == "mesh") {
-            check_keys(v, what, {"type", "file", "transform", "material", "emission", "motion", "interior", "exterior"});
+            check_keys(v, what, {"type", "file", "transform", "instances", "material", "emission", "motion", "interior", "exterior"});
             const JsonValue& fv = required(v, "file", what);
             const std::string& file = string(fv, what + " file");
+            // Instances: the triangles are kept once, in the file's space, and placed by each
+            // transform (two-level BVH); otherwise they are transformed into the scene's list.
+            const JsonValue* instances = v.find("instances");
+            if (instances && v.find("transform"))
+                fail(instances->pos(), what + " has both \"transform\" and \"instances\"; expected one of them (each instance is a transform)");
+            if (instances && (!instances->is_array() || instances->items().empty()))
+                fail(instances->pos(), what + " instances is not a non-empty array; expected [TRANSFORM, ...] (objects like \"transform\")");
             const Transform tr = transform(v.find("transform"));
             const Surface m = shape_surface(v, what, ShapeKind::triangle);
+            if (instances && m.light >= 0)
+                fail(instances->pos(), what + " emits light and has instances; expected a non-emitting material (an emitter is one mesh per placement)");
+            std::vector<Triangle> object_triangles;
+            std::vector<Triangle>& target = instances ? object_triangles : m_scene.triangles;
             std::string contents, display, error;
             if (file.empty() || !m_read_relative(file, contents, display, error))
                 fail(fv.pos(), "cannot read mesh " + quote_text(file) + (error.empty() ? "" : ": " + error) +
@@ -624,7 +635,7 @@ private:
                     tri.attributes = static_cast<int>(m_scene.triangle_attributes.size());
                     m_scene.triangle_attributes.push_back(a);
                 }
-                m_scene.triangles.push_back(tri);
+                target.push_back(tri);
                 ++added;
             }
             if (added == 0) fail(fv.pos(), what + ": " + quote_text(display) + " has no triangle of non-zero area; expected at least one");
@@ -633,6 +644,19 @@ private:
             const bool sides_named = v.find("interior") || v.find("exterior");
             if (m_scene.materials[m.material].flags.has(BsdfFlags::transmission) && !sides_named)
                 check_refracting_mesh(p, mesh, m.material, what, display);
+            if (instances) {
+                const int mesh_index = static_cast<int>(m_scene.instanced_meshes.size());
+                m_scene.instanced_meshes.push_back({std::move(object_triangles), {}, {}});
+                for (const JsonValue& item : instances->items()) {
+                    const Transform placement = transform(&item);
+                    AffineMap map;
+                    for (int i = 0; i < 3; ++i) {
+                        for (int j = 0; j < 3; ++j) map.a[i][j] = placement.m[i][j];
+                        map.a[i][3] = placement.t[i];
+                    }
+                    m_scene.instances.emplace_back(mesh_index, map);
+                }
+            }
         } else if (type == "disk") {
             check_keys(v, what, {"type", "center", "normal", "radius", "material", "emission", "interior", "exterior"});
             Disk d;
