@@ -14,7 +14,9 @@ set(SPT_CORE_SOURCES
     src/geometry/mesh_closure.cpp
     src/io/atomic_file.cpp
     src/io/auto_exposure.cpp
+    src/model/bsdfs/dielectric.cpp
     src/model/bsdfs/lobe_mix.cpp
+    src/model/bsdfs/plastic.cpp
     src/io/embedded_files.cpp
     src/io/exr_writer.cpp
     src/io/image_writer.cpp
@@ -36,12 +38,14 @@ set(SPT_CORE_SOURCES
     src/scene/builtin_scenes.cpp
     src/scene/effects.cpp
     src/scene/json_checker.cpp
+    src/scene/material_types.cpp
     src/scene/scene.cpp
     src/scene/scene_loader.cpp
     src/scene/spectrum_parser.cpp
     src/spectral/chromatic_adaptation.cpp
     src/spectral/cie.cpp
     src/spectral/glass_catalog.cpp
+    src/spectral/metal_catalog.cpp
     src/spectral/observer.cpp
     src/spectral/sensor.cpp
     src/spectral/color_space.cpp
