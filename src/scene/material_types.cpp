@@ -14,11 +14,14 @@ namespace {
 const std::vector<std::string> kTypes = {"conductor", "dielectric", "plastic", "thin_sheet"};
 
 /// "roughness": the GGX α in [0, 1] (0, the default, is smooth: a delta lobe).
-GgxDistribution roughness(const SpectrumParser& p, const JsonValue& def, const std::string& what) {
+void reject_anisotropy(const SpectrumParser& p, const JsonValue& def, const std::string& what) {
     for (const char* key : {"roughness_u", "roughness_v", "anisotropy"})
         if (const JsonValue* v = def.find(key))
             p.fail(v->pos(), what + " " + key + ": anisotropic roughness needs a surface tangent, which materials "
                                         "do not have; expected one number \"roughness\" in [0, 1]");
+}
+
+GgxDistribution roughness(const SpectrumParser& p, const JsonValue& def, const std::string& what) {
     GgxDistribution g;
     const JsonValue* v = def.find("roughness");
     if (!v) return g;
@@ -131,6 +134,7 @@ bool is_microfacet_material_type(const std::string& type) {
 Bsdf parse_microfacet_material(const SpectrumParser& spectra, const JsonValue& def, const std::string& type,
                                const std::string& what) {
     const std::string w = what + " of type " + quote_text(type);
+    reject_anisotropy(spectra, def, w);  // before the key check, which would only call it unknown
     if (type == "conductor") return conductor(spectra, def, w);
     if (type == "dielectric") return dielectric(spectra, def, w);
     if (type == "plastic") return plastic(spectra, def, w);

@@ -12,7 +12,7 @@
 // weighting per direction in favour of the averaged E), the colour shift of light bouncing
 // several times between base and coat (kd², kd³... terms), and absorption in the coat.
 //
-// E(μ) is tabulated at construction (make_plastic) on 32 cosines by a fixed 64×64 stratified
+// E(μ) is tabulated at construction (make_plastic) on 64 cosines by a fixed 64×64 stratified
 // quadrature of the VNDF sampling estimator, linear in between; E_avg is the exact integral of
 // that interpolant, which is what makes the diffuse term integrate exactly.
 #pragma once
@@ -27,7 +27,7 @@
 namespace spt {
 
 struct PlasticBsdf {
-    static constexpr int kAlbedoPoints = 32;
+    static constexpr int kAlbedoPoints = 64;
 
     Spectrum kd;       ///< base reflectance in [0, 1]
     float eta = 1.5f;  ///< coat index (constant)
