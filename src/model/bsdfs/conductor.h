@@ -39,8 +39,10 @@ struct ConductorBsdf {
         return {std::uint8_t(BsdfFlags::reflection | (ggx.is_smooth() ? BsdfFlags::delta : BsdfFlags::non_delta))};
     }
 
-    SampledSpectrum eval(const Vec3& wo, const Vec3& wi, const Vec3& n, const SampledWavelengths& lambda,
-                         TransportMode) const {
+    // Out of line, as the other microfacet types: inlined, they would grow the path loop that
+    // visit_bsdf expands for every type (and change its register allocation) in every scene.
+    [[gnu::noinline]] SampledSpectrum eval(const Vec3& wo, const Vec3& wi, const Vec3& n,
+                                           const SampledWavelengths& lambda, TransportMode) const {
         if (ggx.is_smooth()) return SampledSpectrum(0.f);
         const Frame f = frame_on_side_of(wo, n);
         const Vec3 o = f.to_local(wo), i = f.to_local(wi);
@@ -51,7 +53,7 @@ struct ConductorBsdf {
         return reflectance(om, lambda) * (ggx.D(m) * ggx.G2(o, i) / (4.f * o.z));
     }
 
-    float pdf(const Vec3& wo, const Vec3& wi, const Vec3& n, float /*hero_nm*/) const {
+    [[gnu::noinline]] float pdf(const Vec3& wo, const Vec3& wi, const Vec3& n, float /*hero_nm*/) const {
         if (ggx.is_smooth()) return 0.f;
         const Frame f = frame_on_side_of(wo, n);
         const Vec3 o = f.to_local(wo), i = f.to_local(wi);
@@ -62,8 +64,8 @@ struct ConductorBsdf {
         return ggx.visible_pdf(o, m) / (4.f * om);
     }
 
-    std::optional<BsdfSample> sample(const Vec3& wo, const Vec3& n, SampledWavelengths& lambda, float /*u_lobe*/,
-                                     float u1, float u2, TransportMode) const {
+    [[gnu::noinline]] std::optional<BsdfSample> sample(const Vec3& wo, const Vec3& n, SampledWavelengths& lambda,
+                                                       float /*u_lobe*/, float u1, float u2, TransportMode) const {
         const Frame f = frame_on_side_of(wo, n);
         const Vec3 o = f.to_local(wo);
         if (!(o.z > 0.f)) return std::nullopt;

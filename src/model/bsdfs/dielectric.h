@@ -53,11 +53,13 @@ struct DielectricBsdf {
         return fresnel_dielectric(cos_i, n2 / n0);
     }
 
-    SampledSpectrum eval(const Vec3& wo, const Vec3& wi, const Vec3& n, const SampledWavelengths& lambda,
+    // Out of line and never inlined: LTO and the flattened light sampling of the path loop
+    // would otherwise pull them into the code every scene runs.
+    [[gnu::noinline]] SampledSpectrum eval(const Vec3& wo, const Vec3& wi, const Vec3& n, const SampledWavelengths& lambda,
                          TransportMode mode) const;
-    float pdf(const Vec3& wo, const Vec3& wi, const Vec3& n, float hero_nm) const;
-    std::optional<BsdfSample> sample(const Vec3& wo, const Vec3& n, SampledWavelengths& lambda, float u_lobe,
-                                     float u1, float u2, TransportMode mode) const;
+    [[gnu::noinline]] float pdf(const Vec3& wo, const Vec3& wi, const Vec3& n, float hero_nm) const;
+    [[gnu::noinline]] std::optional<BsdfSample> sample(const Vec3& wo, const Vec3& n, SampledWavelengths& lambda,
+                                                       float u_lobe, float u1, float u2, TransportMode mode) const;
 
 private:
     /// f·|cos θi| at one wavelength (o, i local, o.z > 0; outside: wo is outside).

@@ -49,11 +49,13 @@ struct PlasticBsdf {
         return {f};
     }
 
-    SampledSpectrum eval(const Vec3& wo, const Vec3& wi, const Vec3& n, const SampledWavelengths& lambda,
+    // Out of line and never inlined: LTO and the flattened light sampling of the path loop
+    // would otherwise pull them into the code every scene runs.
+    [[gnu::noinline]] SampledSpectrum eval(const Vec3& wo, const Vec3& wi, const Vec3& n, const SampledWavelengths& lambda,
                          TransportMode) const;
-    float pdf(const Vec3& wo, const Vec3& wi, const Vec3& n, float hero_nm) const;
-    std::optional<BsdfSample> sample(const Vec3& wo, const Vec3& n, SampledWavelengths& lambda, float u_lobe,
-                                     float u1, float u2, TransportMode mode) const;
+    [[gnu::noinline]] float pdf(const Vec3& wo, const Vec3& wi, const Vec3& n, float hero_nm) const;
+    [[gnu::noinline]] std::optional<BsdfSample> sample(const Vec3& wo, const Vec3& n, SampledWavelengths& lambda,
+                                                       float u_lobe, float u1, float u2, TransportMode mode) const;
 
     /// Probability of sampling the coat rather than the base, seen from cos θo = mu.
     float coat_probability(float mu) const {

@@ -28,8 +28,8 @@ struct ThinSheetBsdf {
     }
     float pdf(const Vec3&, const Vec3&, const Vec3&, float) const { return 0.f; }
 
-    std::optional<BsdfSample> sample(const Vec3& wo, const Vec3& n, SampledWavelengths& lambda, float u_lobe,
-                                     float, float, TransportMode) const {
+    [[gnu::noinline]] std::optional<BsdfSample> sample(const Vec3& wo, const Vec3& n, SampledWavelengths& lambda,
+                                                       float u_lobe, float, float, TransportMode) const {
         const float cos_o = dot(wo, n);
         const SampledSpectrum R = reflectance(std::fabs(cos_o), lambda);
         // Choose by the mean over the live wavelengths: interference makes R vary a lot with λ.
