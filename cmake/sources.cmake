@@ -15,7 +15,9 @@ set(SPT_CORE_SOURCES
     src/io/atomic_file.cpp
     src/io/auto_exposure.cpp
     src/model/aperture.cpp
+    src/model/bsdfs/dielectric.cpp
     src/model/bsdfs/lobe_mix.cpp
+    src/model/bsdfs/plastic.cpp
     src/io/density_grid_reader.cpp
     src/io/embedded_files.cpp
     src/io/exr_writer.cpp
@@ -40,6 +42,7 @@ set(SPT_CORE_SOURCES
     src/scene/effects.cpp
     src/scene/json_checker.cpp
     src/scene/medium_parser.cpp
+    src/scene/material_types.cpp
     src/scene/scene.cpp
     src/scene/scene_motion.cpp
     src/scene/scene_loader.cpp
@@ -47,6 +50,7 @@ set(SPT_CORE_SOURCES
     src/spectral/chromatic_adaptation.cpp
     src/spectral/cie.cpp
     src/spectral/glass_catalog.cpp
+    src/spectral/metal_catalog.cpp
     src/spectral/observer.cpp
     src/spectral/sensor.cpp
     src/spectral/color_space.cpp

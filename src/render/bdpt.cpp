@@ -61,7 +61,9 @@ public:
     Bdpt(const BdptContext& ctx, const SampledWavelengths& lambda, Rng& rng, PathStats& stats,
          std::vector<Vertex>& light, std::vector<Vertex>& camera, float eta = 0.f, float time = 0.f)
         : m_ctx(ctx), m_scene(ctx.scene), m_lambda(lambda), m_rng(rng), m_stats(stats),
-          m_hero(lambda.lambda[0]), m_eta(eta), m_time(time), m_light(light), m_camera(camera) {}
+          m_hero(lambda.lambda[0]), m_eta(eta), m_time(time), m_light(light), m_camera(camera), m_hero_only(lambda) {
+        m_hero_only.terminate_secondary();
+    }
 
     /// One bidirectional sample: both subpaths, every strategy.
     SampledSpectrum run(const Ray& ray, std::vector<Splat>& splats);
@@ -96,7 +98,10 @@ private:
     float camera_merge_sum(int t) const;
     float other_strategies(int s, int t, int camera_stop) const;
     bool visible(const Vertex& a, const Vertex& b);
-    SampledSpectrum f_cos(const Vertex& v, const Vec3& wi, const SampledWavelengths& lambda) const;
+    SampledSpectrum f_cos(const Vertex& v, const Vec3& wi, const SampledWavelengths& lambda, Transport mode) const;
+    /// The wavelengths a strategy's BSDF evaluations see: hero only once it terminated them
+    /// (a dispersive transmission then evaluates to the hero's f, not K times it: bsdf.h).
+    const SampledWavelengths& lambda_for(bool terminated) const { return terminated ? m_hero_only : m_lambda; }
     int max_depth() const;
     void accumulate(const SampledSpectrum& c, bool terminated);
 
@@ -112,6 +117,7 @@ private:
     std::vector<Vertex>& m_camera;  ///< camera subpath: the pinhole, surface vertices, and the
                                     ///< environment when the last ray escaped
     SampledSpectrum m_L_full{0.f}, m_L_hero{0.f};  ///< contributions, by whether they kept the companions
+    SampledWavelengths m_hero_only;                ///< m_lambda after terminate_secondary()
 };
 
 /// Extends `path` from its last vertex along `ray`. pdf_dir is the density of the ray's
@@ -179,9 +185,11 @@ void Bdpt::random_walk(Ray ray, SampledSpectrum beta, float pdf_dir, int max_ver
     }
 }
 
-/// f·|cos θi| at surface vertex v for light arriving from wi (v.wo the other direction).
-SampledSpectrum Bdpt::f_cos(const Vertex& v, const Vec3& wi, const SampledWavelengths& lambda) const {
-    return bsdf_eval(m_scene.materials[v.hit.material].bsdf, v.wo, wi, v.hit.ns, lambda, TransportMode::radiance);
+/// f·|cos| at surface vertex v between v.wo and wi: radiance mode at camera vertices (light
+/// arrives from wi), importance mode at light vertices (light arrives from v.wo and leaves
+/// along wi: the adjoint BSDF, which differs from f where refraction scales radiance).
+SampledSpectrum Bdpt::f_cos(const Vertex& v, const Vec3& wi, const SampledWavelengths& lambda, Transport mode) const {
+    return bsdf_eval(m_scene.materials[v.hit.material].bsdf, v.wo, wi, v.hit.ns, lambda, mode);
 }
 
 float Bdpt::light_direction_pdf(const Vertex& light, const Vertex& next) const {
@@ -407,7 +415,9 @@ void Bdpt::splat_light_tracing(std::vector<Splat>& splats) {
         if (!m_ctx.camera.raster_position(pt.p(), -w_cam, px, py)) continue;
         const float cos_cam = dot(-w_cam, m_ctx.camera.forward());
         SampledSpectrum c = qs.beta * (m_ctx.camera.importance(cos_cam) * cos_cam / dist2);
-        if (qs.type == VertexType::surface) c *= f_cos(qs, w_cam, m_lambda) * shading_correction(qs.hit, qs.wo, w_cam);
+        if (qs.type == VertexType::surface)
+            c *= f_cos(qs, w_cam, lambda_for(qs.terminated), Transport::importance) *
+                 shading_correction(qs.hit, qs.wo, w_cam);
         else if (qs.on_surface()) c *= std::fabs(dot(qs.hit.n, w_cam));  // an area light's origin
         if (c.is_zero() || !visible(qs, pt)) continue;
         c *= mis_weight(s, 1);
@@ -456,7 +466,7 @@ SampledSpectrum Bdpt::connect() {
             if (qs.infinite) {
                 // s = 1 on the environment: towards the light subpath's direction (uniform over
                 // the sphere, density environment_pdf), unoccluded to infinity.
-                SampledSpectrum c = qs.beta * pt.beta * f_cos(pt, qs.dir, m_lambda);
+                SampledSpectrum c = qs.beta * pt.beta * f_cos(pt, qs.dir, lambda_for(terminated), Transport::radiance);
                 if (c.is_zero()) continue;
                 ++m_stats.rays;
                 if (m_scene.occluded(spawn_ray(pt.hit, qs.dir), -1, m_time)) continue;
@@ -467,9 +477,10 @@ SampledSpectrum Bdpt::connect() {
             const float dist2 = length_squared(d);
             if (!(dist2 > 0.f)) continue;
             const Vec3 w_pt = d / std::sqrt(dist2);  // from pt towards qs
-            SampledSpectrum c = qs.beta * pt.beta * f_cos(pt, w_pt, m_lambda) / dist2;
+            const SampledWavelengths& lw = lambda_for(terminated);
+            SampledSpectrum c = qs.beta * pt.beta * f_cos(pt, w_pt, lw, Transport::radiance) / dist2;
             if (qs.type == VertexType::surface)
-                c *= f_cos(qs, -w_pt, m_lambda) * shading_correction(qs.hit, qs.wo, -w_pt);
+                c *= f_cos(qs, -w_pt, lw, Transport::importance) * shading_correction(qs.hit, qs.wo, -w_pt);
             else if (qs.on_surface()) c *= std::fabs(dot(qs.hit.n, w_pt));  // an area light's origin
             if (c.is_zero() || !visible(pt, qs)) continue;
             accumulate(c * mis_weight(s, t), terminated);
@@ -505,7 +516,9 @@ SampledSpectrum Bdpt::merge(const MergeContext& mc) {
             // f without the cosine: the photon's throughput is flux arriving at its point.
             const float cos_q = std::fabs(dot(q.wo, c.hit.ns));
             if (!(cos_q > 0.f)) return;
-            const SampledSpectrum f = bsdf_eval(bsdf, c.wo, q.wo, c.hit.ns, m_lambda, TransportMode::radiance) / cos_q;
+            const SampledSpectrum f =
+                bsdf_eval(bsdf, c.wo, q.wo, c.hit.ns, lambda_for(c.terminated || q.terminated), TransportMode::radiance) /
+                cos_q;
             accumulate(c.beta * f * q.beta * (w * inv_eta), c.terminated || q.terminated);
         });
     }

@@ -8,6 +8,7 @@
 #include <type_traits>
 
 #include "geometry/aabb.h"
+#include "scene/material_types.h"
 
 namespace spt {
 
@@ -47,12 +48,14 @@ void check_spectrum(const Spectrum& s, const std::string& what, float lo, float 
 
 void Scene::disable_dispersion() {
     for (Material& m : materials) {
-        LobeMixBsdf* mix = std::get_if<LobeMixBsdf>(&m.bsdf);
-        if (!mix || mix->eta.is_constant()) continue;
+        Spectrum* eta = nullptr;
+        if (LobeMixBsdf* mix = std::get_if<LobeMixBsdf>(&m.bsdf)) eta = &mix->eta;
+        if (DielectricBsdf* d = std::get_if<DielectricBsdf>(&m.bsdf)) eta = &d->eta;
+        if (!eta || eta->is_constant()) continue;
         double sum = 0;
         int n = 0;
-        for (double l = Spectrum::kBinMin; l <= Spectrum::kBinMax; l += 1.0, ++n) sum += mix->eta.source().eval(l);
-        mix->eta = Spectrum(SpectrumSource::constant(sum / n), SpectralResolution{});
+        for (double l = Spectrum::kBinMin; l <= Spectrum::kBinMax; l += 1.0, ++n) sum += eta->source().eval(l);
+        *eta = Spectrum(SpectrumSource::constant(sum / n), SpectralResolution{});
     }
     finalize();
 }
@@ -136,7 +139,9 @@ void validate_material(const Material& m) {
         check_spectrum(d->kd, who + " kd", 0.f, 1.f);
         return;
     }
-    const LobeMixBsdf& b = std::get<LobeMixBsdf>(m.bsdf);
+    const LobeMixBsdf* mix = std::get_if<LobeMixBsdf>(&m.bsdf);
+    if (!mix) return validate_surface_model(m.bsdf, who);  // the microfacet-era types
+    const LobeMixBsdf& b = *mix;
     check_spectrum(b.kd, who + " kd", 0.f, 1.f);
     check_spectrum(b.ks, who + " ks", 0.f, 1.f);
     check_spectrum(b.kt, who + " kt", 0.f, 1.f);

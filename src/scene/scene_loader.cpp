@@ -17,6 +17,7 @@
 #include "geometry/mesh_closure.h"
 #include "io/ply_reader.h"
 #include "scene/json_checker.h"
+#include "scene/material_types.h"
 #include "scene/medium_parser.h"
 #include "scene/spectrum_parser.h"
 
@@ -282,8 +283,11 @@ private:
                 // sampled inline in the path loop.
                 if (!b.has_mirror() && !b.has_transmission()) m.bsdf = DiffuseBsdf{std::move(b.kd)};
                 else m.bsdf = std::move(b);
+            } else if (is_microfacet_material_type(type)) {
+                m.bsdf = parse_microfacet_material(m_spectra, def, type, what);
             } else {
-                const std::vector<std::string> types = {"diffuse", "lobes"};
+                const std::vector<std::string> types = {"diffuse", "lobes", "conductor", "dielectric", "plastic",
+                                                        "thin_sheet"};
                 fail(def.find("type")->pos(), "unknown material type " + quote_text(type) + "." +
                                                   suggestion(type, types) + " Expected one of: " + join(types));
             }

@@ -11,16 +11,22 @@
 namespace spt {
 
 Spectrum SpectrumParser::spectrum(const JsonValue& v, const std::string& what, SpectrumUse use) const {
-    const SpectrumSource source = spectrum_source(v, what);
+    return spectrum_from(spectrum_source(v, what), v.pos(), what, use);
+}
+
+Spectrum SpectrumParser::spectrum_from(const SpectrumSource& source, TextPos pos, const std::string& what,
+                                       SpectrumUse use) const {
     // Scan the exact source over the whole sampled range.
     double lo = 0, hi = 1e30;
     const char* expected = "a finite value >= 0";
     if (use == SpectrumUse::Reflectance) hi = 1, expected = "a reflectance in [0, 1]";
     if (use == SpectrumUse::Index) lo = 1, hi = 100, expected = "an index of refraction in [1, 100]";
+    if (use == SpectrumUse::ConductorIndex) lo = 1e-3, hi = 100, expected = "a conductor's eta in [0.001, 100]";
+    if (use == SpectrumUse::Extinction) lo = 0, hi = 100, expected = "an extinction coefficient k in [0, 100]";
     for (double l = kLambdaMin; l <= kLambdaMax; l += 1.0) {
         const double x = source.eval(l);
         if (std::isfinite(x) && x >= lo && x <= hi) continue;
-        fail(v.pos(), what + " is " + number_text(x) + " at " + number_text(l) + " nm; expected " + expected +
+        fail(pos, what + " is " + number_text(x) + " at " + number_text(l) + " nm; expected " + expected +
                           " at every wavelength from 360 to 830 nm");
     }
     return Spectrum(source, m_resolution);

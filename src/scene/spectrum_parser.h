@@ -14,6 +14,8 @@ enum class SpectrumUse {
     Reflectance,  ///< [0, 1]
     Emission,     ///< finite, >= 0 (radiance, intensity)
     Index,        ///< index of refraction in [1, 100]
+    ConductorIndex,  ///< real part η of a conductor's complex index, in [0.001, 100]
+    Extinction,      ///< imaginary part k of a complex index, in [0, 100]
 };
 
 class SpectrumParser : public JsonChecker {
@@ -24,6 +26,9 @@ public:
     /// The spectrum described by `v`, checked at every nanometre from 360 to 830 nm for its
     /// use; `what` names it in messages. Throws LocatedError.
     Spectrum spectrum(const JsonValue& v, const std::string& what, SpectrumUse use) const;
+    /// A spectrum from a source made elsewhere (a named table), checked as spectrum() does;
+    /// errors point at `pos`.
+    Spectrum spectrum_from(const SpectrumSource& source, TextPos pos, const std::string& what, SpectrumUse use) const;
 
 private:
     SpectralResolution m_resolution;

@@ -10,7 +10,11 @@
 ///                                a non-delta lobe (light sampling, connections, merging),
 ///                                a delta lobe, wavelength-dependent directions.
 ///  eval(wo, wi, n, λ, mode)      f(wo, wi)·|cos θi| of the non-delta lobes, per wavelength;
-///                                for mode = importance the adjoint BSDF.
+///                                for mode = importance the adjoint BSDF. A dispersive
+///                                transmission evaluated while λ's companions live gives the
+///                                hero's value × kLambdaCount and 0 for the companions: what
+///                                a path that sampled it carries (dielectric.h), so every
+///                                strategy estimates the same thing.
 ///  pdf(wo, wi, n, hero)          solid-angle density with which sample() produces wi from
 ///                                wo through its non-delta lobes, the lobe choice made at the
 ///                                hero wavelength (the density MIS weights use: the same
@@ -29,12 +33,18 @@
 #include <variant>
 
 #include "model/bsdfs/bsdf_sample.h"
+#include "model/bsdfs/conductor.h"
+#include "model/bsdfs/dielectric.h"
 #include "model/bsdfs/diffuse.h"
 #include "model/bsdfs/lobe_mix.h"
+#include "model/bsdfs/plastic.h"
+#include "model/bsdfs/thin_sheet.h"
 
 namespace spt {
 
-using Bsdf = std::variant<DiffuseBsdf, LobeMixBsdf>;
+/// The types of the first wave come first: visit_bsdf tests indices in order, so the
+/// common materials keep their short path.
+using Bsdf = std::variant<DiffuseBsdf, LobeMixBsdf, ConductorBsdf, DielectricBsdf, PlasticBsdf, ThinSheetBsdf>;
 
 /// Calls f with the BSDF's alternative: a chain of index tests, inlined, most common type
 /// first (std::visit compiled to an out-of-line call through a table, and next-event

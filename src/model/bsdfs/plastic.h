@@ -1,0 +1,71 @@
+// Plastic: a Lambertian base of reflectance kd under a clear dielectric coat of index η (a
+// constant), smooth (α = 0: a delta mirror coat) or rough (GGX). Reflects on both sides alike.
+//
+// Layering approximation (the energy-conserving coupling of Kelemen & Szirmay-Kalos 2001, also
+// Kulla & Conty 2017): with E(μ) the directional albedo of the coat's specular lobe alone and
+// E_avg = 2∫E(μ)μ dμ its cosine-weighted mean,
+//   f = f_coat(wo, wi) + kd·(1 − E(μo))·(1 − E(μi)) / (π·(1 − E_avg)).
+// What enters the coat is what its specular lobe does not reflect; the diffuse term is
+// reciprocal and, for kd = 1, returns exactly that energy (∫ diffuse·cos = 1 − E(μo)), so a
+// white base under any coat is a white furnace up to the tabulation of E. It neglects: the
+// refraction of the diffuse light (its angular reshaping by the coat, and the (1 − F)
+// weighting per direction in favour of the averaged E), the colour shift of light bouncing
+// several times between base and coat (kd², kd³... terms), and absorption in the coat.
+//
+// E(μ) is tabulated at construction (make_plastic) on 64 cosines by a fixed 64×64 stratified
+// quadrature of the VNDF sampling estimator, linear in between; E_avg is the exact integral of
+// that interpolant, which is what makes the diffuse term integrate exactly.
+#pragma once
+#include <array>
+#include <optional>
+
+#include "model/bsdfs/bsdf_sample.h"
+#include "model/bsdfs/fresnel.h"
+#include "model/bsdfs/microfacet.h"
+#include "model/bsdfs/microfacet_lobe.h"
+
+namespace spt {
+
+struct PlasticBsdf {
+    static constexpr int kAlbedoPoints = 64;
+
+    Spectrum kd;       ///< base reflectance in [0, 1]
+    float eta = 1.5f;  ///< coat index (constant)
+    GgxDistribution ggx;
+    std::array<float, kAlbedoPoints> coat_albedo{};  ///< E(μ) at μ = j/(kAlbedoPoints − 1)
+    float coat_albedo_avg = 0.f;                     ///< E_avg
+    float kd_mean = 0.f;                             ///< mean of kd over 380–780 nm, for the lobe choice
+
+    /// E(μ) of the coat, linear between the tabulated cosines.
+    float coat_albedo_at(float mu) const {
+        const float x = std::clamp(mu, 0.f, 1.f) * (kAlbedoPoints - 1);
+        const int j = std::min(static_cast<int>(x), kAlbedoPoints - 2);
+        return lerp(x - static_cast<float>(j), coat_albedo[j], coat_albedo[j + 1]);
+    }
+
+    BsdfFlags flags() const {
+        std::uint8_t f = BsdfFlags::reflection | BsdfFlags::non_delta;
+        if (ggx.is_smooth()) f |= BsdfFlags::delta;
+        return {f};
+    }
+
+    // Out of line and never inlined: LTO and the flattened light sampling of the path loop
+    // would otherwise pull them into the code every scene runs.
+    [[gnu::noinline]] SampledSpectrum eval(const Vec3& wo, const Vec3& wi, const Vec3& n, const SampledWavelengths& lambda,
+                         TransportMode) const;
+    [[gnu::noinline]] float pdf(const Vec3& wo, const Vec3& wi, const Vec3& n, float hero_nm) const;
+    [[gnu::noinline]] std::optional<BsdfSample> sample(const Vec3& wo, const Vec3& n, SampledWavelengths& lambda,
+                                                       float u_lobe, float u1, float u2, TransportMode mode) const;
+
+    /// Probability of sampling the coat rather than the base, seen from cos θo = mu.
+    float coat_probability(float mu) const {
+        const float e = coat_albedo_at(mu);
+        const float d = (1.f - e) * kd_mean;
+        return e + d > 0.f ? e / (e + d) : 1.f;
+    }
+};
+
+/// A plastic with its coat albedo table computed (kd in [0, 1], eta ≥ 1, alpha in [0, 1]).
+PlasticBsdf make_plastic(Spectrum kd, float eta, float alpha);
+
+}  // namespace spt

@@ -1,0 +1,165 @@
+// Parsing and checks of the conductor, dielectric, plastic and thin_sheet materials.
+#include "scene/material_types.h"
+
+#include <cmath>
+#include <sstream>
+
+#include "scene/scene.h"
+#include "spectral/metal_catalog.h"
+
+namespace spt {
+
+namespace {
+
+const std::vector<std::string> kTypes = {"conductor", "dielectric", "plastic", "thin_sheet"};
+
+/// "roughness": the GGX α in [0, 1] (0, the default, is smooth: a delta lobe).
+void reject_anisotropy(const SpectrumParser& p, const JsonValue& def, const std::string& what) {
+    for (const char* key : {"roughness_u", "roughness_v", "anisotropy"})
+        if (const JsonValue* v = def.find(key))
+            p.fail(v->pos(), what + " " + key + ": anisotropic roughness needs a surface tangent, which materials "
+                                        "do not have; expected one number \"roughness\" in [0, 1]");
+}
+
+GgxDistribution roughness(const SpectrumParser& p, const JsonValue& def, const std::string& what) {
+    GgxDistribution g;
+    const JsonValue* v = def.find("roughness");
+    if (!v) return g;
+    if (v->is_array())
+        p.fail(v->pos(), what + " roughness is an array: anisotropic roughness needs a surface tangent, which "
+                                "materials do not have; expected one number in [0, 1]");
+    g.alpha = static_cast<float>(p.number_in(*v, what + " roughness", 0, 1));
+    return g;
+}
+
+/// "film": {"thickness_nm": d, "ior": spectrum}; absent or d = 0 means no film.
+ThinFilm film(const SpectrumParser& p, const JsonValue& def, const std::string& what) {
+    ThinFilm f;
+    const JsonValue* v = def.find("film");
+    if (!v) return f;
+    const std::string w = what + " film";
+    p.object(*v, w);
+    p.check_keys(*v, w, {"thickness_nm", "ior"});
+    f.thickness_nm = static_cast<float>(p.number_in(p.required(*v, "thickness_nm", w), w + " thickness_nm", 0, 1e5));
+    f.eta = p.spectrum(p.required(*v, "ior", w), w + " ior", SpectrumUse::Index);
+    return f;
+}
+
+ConductorBsdf conductor(const SpectrumParser& p, const JsonValue& def, const std::string& what) {
+    p.check_keys(def, what, {"type", "metal", "eta", "k", "roughness", "film", "emission"});
+    ConductorBsdf c;
+    const JsonValue* metal = def.find("metal");
+    const JsonValue *eta = def.find("eta"), *k = def.find("k");
+    if (metal && (eta || k))
+        p.fail(def.pos(), what + " has both \"metal\" and \"eta\"/\"k\"; expected one of them");
+    if (metal) {
+        const std::string& name = p.string(*metal, what + " metal");
+        const std::optional<MetalInfo> m = find_metal(name);
+        if (!m)
+            p.fail(metal->pos(), "unknown metal " + quote_text(name) + "." + suggestion(name, metal_names()) +
+                                     " Expected one of: " + join(metal_names()));
+        c.eta = p.spectrum_from(m->eta, metal->pos(), what + " eta (" + m->symbol + ")", SpectrumUse::ConductorIndex);
+        c.k = p.spectrum_from(m->k, metal->pos(), what + " k (" + m->symbol + ")", SpectrumUse::Extinction);
+    } else {
+        if (!eta || !k)
+            p.fail(def.pos(), what + " has no \"metal\" and not both \"eta\" and \"k\"; expected \"metal\": \"Au\" "
+                                     "(or Ag, Cu, Al) or both spectra");
+        c.eta = p.spectrum(*eta, what + " eta", SpectrumUse::ConductorIndex);
+        c.k = p.spectrum(*k, what + " k", SpectrumUse::Extinction);
+    }
+    c.ggx = roughness(p, def, what);
+    c.film = film(p, def, what);
+    return c;
+}
+
+DielectricBsdf dielectric(const SpectrumParser& p, const JsonValue& def, const std::string& what) {
+    p.check_keys(def, what, {"type", "ior", "roughness", "film", "emission"});
+    DielectricBsdf d;
+    d.eta = p.spectrum(p.required(def, "ior", what), what + " ior", SpectrumUse::Index);
+    d.ggx = roughness(p, def, what);
+    d.film = film(p, def, what);
+    return d;
+}
+
+PlasticBsdf plastic(const SpectrumParser& p, const JsonValue& def, const std::string& what) {
+    p.check_keys(def, what, {"type", "kd", "ior", "roughness", "emission"});
+    Spectrum kd = p.spectrum(p.required(def, "kd", what), what + " kd", SpectrumUse::Reflectance);
+    float eta = 1.5f;
+    if (const JsonValue* v = def.find("ior")) {
+        const Spectrum s = p.spectrum(*v, what + " ior", SpectrumUse::Index);
+        if (!s.source().is_constant())
+            p.fail(v->pos(), what + " ior varies with wavelength; expected a constant coat index (the coat's "
+                                    "albedo table is built for one index)");
+        eta = s.eval(550.f);
+    }
+    return make_plastic(std::move(kd), eta, roughness(p, def, what).alpha);
+}
+
+ThinSheetBsdf thin_sheet(const SpectrumParser& p, const JsonValue& def, const std::string& what) {
+    p.check_keys(def, what, {"type", "thickness_nm", "ior", "emission"});
+    ThinSheetBsdf t;
+    t.film.thickness_nm =
+        static_cast<float>(p.number_in(p.required(def, "thickness_nm", what), what + " thickness_nm", 0, 1e5, true));
+    t.film.eta = p.spectrum(p.required(def, "ior", what), what + " ior", SpectrumUse::Index);
+    return t;
+}
+
+/// Throws SceneError unless s stays in [lo, hi] from 360 to 830 nm (bins and exact source).
+void check_range(const Spectrum& s, const std::string& what, double lo, double hi) {
+    for (float l = kLambdaMin; l <= kLambdaMax; l += 1.f) {
+        const double v = s.eval(l), x = s.source().eval(l);
+        if (std::isfinite(v) && std::isfinite(x) && v >= lo && v <= hi && x >= lo && x <= hi) continue;
+        std::ostringstream msg;
+        msg << what << " is " << (v >= lo && v <= hi ? x : v) << " at " << l << " nm; expected a value in [" << lo
+            << ", " << hi << "]";
+        throw SceneError(msg.str());
+    }
+}
+
+void check_alpha(const GgxDistribution& g, const std::string& who) {
+    if (!(g.alpha >= 0.f && g.alpha <= 1.f)) throw SceneError(who + " roughness must be in [0, 1]");
+}
+
+void check_film(const ThinFilm& f, const std::string& who) {
+    if (!(f.thickness_nm >= 0.f && f.thickness_nm <= 1e5f)) throw SceneError(who + " film thickness must be in [0, 1e5] nm");
+    if (f.present()) check_range(f.eta, who + " film index", 1, 100);
+}
+
+}  // namespace
+
+bool is_microfacet_material_type(const std::string& type) {
+    return std::find(kTypes.begin(), kTypes.end(), type) != kTypes.end();
+}
+
+Bsdf parse_microfacet_material(const SpectrumParser& spectra, const JsonValue& def, const std::string& type,
+                               const std::string& what) {
+    const std::string w = what + " of type " + quote_text(type);
+    reject_anisotropy(spectra, def, w);  // before the key check, which would only call it unknown
+    if (type == "conductor") return conductor(spectra, def, w);
+    if (type == "dielectric") return dielectric(spectra, def, w);
+    if (type == "plastic") return plastic(spectra, def, w);
+    return thin_sheet(spectra, def, w);
+}
+
+void validate_surface_model(const Bsdf& bsdf, const std::string& who) {
+    if (const ConductorBsdf* c = std::get_if<ConductorBsdf>(&bsdf)) {
+        check_range(c->eta, who + " eta", 1e-3, 100);
+        check_range(c->k, who + " k", 0, 100);
+        check_alpha(c->ggx, who);
+        check_film(c->film, who);
+    } else if (const DielectricBsdf* d = std::get_if<DielectricBsdf>(&bsdf)) {
+        check_range(d->eta, who + " index of refraction", 1, 100);
+        check_alpha(d->ggx, who);
+        check_film(d->film, who);
+    } else if (const PlasticBsdf* p = std::get_if<PlasticBsdf>(&bsdf)) {
+        check_range(p->kd, who + " kd", 0, 1);
+        if (!(p->eta >= 1.f && p->eta <= 100.f)) throw SceneError(who + " coat index must be in [1, 100]");
+        check_alpha(p->ggx, who);
+    } else if (const ThinSheetBsdf* t = std::get_if<ThinSheetBsdf>(&bsdf)) {
+        if (!(t->film.thickness_nm > 0.f && t->film.thickness_nm <= 1e5f))
+            throw SceneError(who + " thickness must be in (0, 1e5] nm");
+        check_range(t->film.eta, who + " index", 1, 100);
+    }
+}
+
+}  // namespace spt

@@ -1,0 +1,27 @@
+// Scene-file materials of the microfacet-era types (see scenes/README.md, "Materials"):
+//   conductor   metal: "metal": "Au" | "eta" + "k" spectra; "roughness"; "film"
+//   dielectric  glass interface: "ior" spectrum; "roughness"; "film"
+//   plastic     diffuse base under a clear coat: "kd", "ior" (constant), "roughness"
+//   thin_sheet  soap bubble: "thickness_nm", "ior"
+// and the checks of their parameters for materials made in code.
+#pragma once
+#include <string>
+
+#include "model/bsdfs/bsdf.h"
+#include "scene/spectrum_parser.h"
+
+namespace spt {
+
+/// Whether `type` names one of the types parsed here.
+bool is_microfacet_material_type(const std::string& type);
+
+/// The BSDF of material `def` (an object with "type" = one of the types above; `what` names
+/// it in messages). Keys "emission" and "type" are allowed and left to the caller. Throws
+/// LocatedError.
+Bsdf parse_microfacet_material(const SpectrumParser& spectra, const JsonValue& def, const std::string& type,
+                               const std::string& what);
+
+/// Checks the parameters of the types above (ranges at every wavelength); throws SceneError.
+void validate_surface_model(const Bsdf& bsdf, const std::string& who);
+
+}  // namespace spt
