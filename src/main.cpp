@@ -165,6 +165,9 @@ int run(const spt::Options& opt) {
         throw spt::UsageError(std::string("--spectral-bands: only with the path integrator (bdpt and vcm splats are "
                                           "not binned); the scene file chooses ") +
                               spt::integrator_name(integrator.settings.kind) + ", add --integrator path");
+    if (scene->effects.textures && integrator.settings.kind != spt::IntegratorKind::path)
+        throw spt::UsageError(std::string("the scene has textures, which only the path integrator renders so far; ") +
+                              spt::integrator_name(integrator.settings.kind) + " is chosen, add --integrator path");
     std::vector<std::string> outputs = opt.outputs;
     if (outputs.empty()) outputs.push_back(scene->name + ".png");
     std::vector<std::string> warnings = scene->warnings;

@@ -16,6 +16,7 @@ std::string Effects::describe() const {
     add(transmission, "dielectric transmission");
     add(dispersion, "dispersion");
     add(shading_normals, "smooth shading (vertex normals)");
+    add(textures, "textures");
     return s.empty() ? "none" : s;
 }
 

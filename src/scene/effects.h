@@ -13,6 +13,7 @@ struct Effects {
     bool transmission = false;       ///< Fresnel dielectrics
     bool dispersion = false;         ///< wavelength-dependent index: hero set splits
     bool shading_normals = false;    ///< meshes with vertex normals: smooth shading
+    bool textures = false;           ///< a material or emitter bound to a texture
 
     std::string describe() const;
 };

@@ -70,6 +70,7 @@ void Scene::set_background(Spectrum radiance) {
     for (std::size_t i = 0; i < lights.size(); ++i) {
         if (!std::holds_alternative<EnvironmentLight>(lights[i])) continue;
         lights.erase(lights.begin() + static_cast<std::ptrdiff_t>(i));
+        if (i < light_textures.size()) light_textures.erase(light_textures.begin() + static_cast<std::ptrdiff_t>(i));
         // Later lights moved down by one: so must the shapes' indices of them.
         for_each_shape_array([&](auto& shapes) {
             for (auto& shape : shapes)
@@ -172,6 +173,10 @@ void Scene::finalize() {
     for (Material& m : materials) {
         validate_material(m);
         m.flags = bsdf_flags(m.bsdf);
+        m.textured = !m.textures.empty();
+        for (const TextureBinding& b : m.textures)
+            require(b.parameter && b.texture >= 0 && b.texture < static_cast<int>(textures.size()),
+                    "material '" + m.name + "' refers to a texture that does not exist");
     }
     auto check_material_index = [&](int index, const std::string& who) {
         require(index >= 0 && index < static_cast<int>(materials.size()),
@@ -269,8 +274,22 @@ void Scene::finalize() {
             effects.mirror |= m.flags.has(BsdfFlags::delta);
             effects.transmission |= m.flags.has(BsdfFlags::transmission);
             effects.dispersion |= m.flags.has(BsdfFlags::dispersive);
+            effects.textures |= m.textured;
         }
     });
+    if (!light_textures.empty()) {
+        light_textures.resize(lights.size(), -1);
+        for (std::size_t i = 0; i < lights.size(); ++i) {
+            const int t = light_textures[i];
+            if (t < 0) continue;
+            require(t < static_cast<int>(textures.size()), "an emitter refers to a texture that does not exist");
+            require(!std::holds_alternative<TriangleMeshLight>(lights[i]) && !std::holds_alternative<PointLight>(lights[i]) &&
+                        !std::holds_alternative<EnvironmentLight>(lights[i]),
+                    "an emission texture is on a light without surface coordinates (a triangle, mesh, point "
+                    "light or the background)");
+            effects.textures = true;
+        }
+    }
     for (const Triangle& t : triangles)
         effects.shading_normals |=
             t.attributes >= 0 && triangle_attributes[static_cast<std::size_t>(t.attributes)].has_normals;
