@@ -23,7 +23,7 @@ public:
     unsigned long long number(const char* what) {
         skip_space();
         if (m_at >= m_s.size() || !std::isdigit(static_cast<unsigned char>(m_s[m_at])))
-            throw ImageDecodeError(std::string("PPM header: expected the ") + what + " (truncated or not a number)");
+            throw ImageDecodeError(std::string("PPM: expected the ") + what + " at byte " + std::to_string(m_at) + " (truncated or not a number)");
         unsigned long long v = 0;
         while (m_at < m_s.size() && std::isdigit(static_cast<unsigned char>(m_s[m_at]))) {
             if (v > (1ull << 60)) throw ImageDecodeError(std::string("PPM: the ") + what + " is too large");

@@ -58,6 +58,7 @@ void Scene::disable_dispersion() {
 
 int Scene::add_material(Material m) {
     m.flags = bsdf_flags(m.bsdf);
+    m.textured = !m.textures.empty();
     materials.push_back(std::move(m));
     return static_cast<int>(materials.size()) - 1;
 }

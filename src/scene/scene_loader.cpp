@@ -447,9 +447,13 @@ private:
                 v, what, [&](const Spectrum& le) { return m_scene.add_quad_emitter(a, b - a, d - a, le); });
             add_triangle(a, b, c, m, v.pos(), what);
             add_triangle(a, c, d, m, v.pos(), what);
-            // (u, v) = the position along edge1 and edge2, each in [0, 1] (Scene::surface_uv).
+            // (u, v) = the position along edge1 and edge2, each in [0, 1] (Scene::surface_uv),
+            // for quads with a texture: vertex attributes on other quads would cost a look-up
+            // at every hit (Scene::triangle_hit) for coordinates nothing reads.
+            const bool textured = m_scene.materials[static_cast<std::size_t>(m.material)].textured ||
+                                  (m.light >= 0 && m_scene.light_textured(m.light));
             const float uv[2][3][2] = {{{0, 0}, {1, 0}, {1, 1}}, {{0, 0}, {1, 1}, {0, 1}}};
-            for (int k = 0; k < 2; ++k) {
+            for (int k = 0; k < 2 && textured; ++k) {
                 TriangleAttributes attr;
                 std::memcpy(attr.uv, uv[k], sizeof attr.uv);
                 attr.has_uv = true;
