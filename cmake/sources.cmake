@@ -15,6 +15,7 @@ set(SPT_CORE_SOURCES
     src/io/atomic_file.cpp
     src/io/auto_exposure.cpp
     src/model/bsdfs/lobe_mix.cpp
+    src/io/checksums.cpp
     src/io/embedded_files.cpp
     src/io/exr_decoder.cpp
     src/io/exr_writer.cpp

@@ -8,6 +8,7 @@
 #include <iterator>
 #include <string>
 
+#include "io/checksums.h"
 #include "io/inflate.h"
 
 namespace spt {

@@ -115,11 +115,14 @@ DecodedImage decode_exr(std::string_view s) {
     else throw ImageDecodeError("OpenEXR file has neither R, G, B nor Y channels");
     if (wanted.size() == 3 && where.count("A")) wanted.push_back("A");
 
+    const std::size_t table = at;
+    in.need(table, static_cast<std::size_t>(h) * 8, "the offset table");
+    // Every scanline's block (8-byte header and its data) must fit in the file.
+    if ((s.size() - table) / static_cast<std::size_t>(h) < 16 + line_bytes)
+        throw ImageDecodeError("OpenEXR file is shorter than its " + std::to_string(h) + " scanlines need (truncated file)");
     DecodedImage img;
     img.width = static_cast<int>(w), img.height = static_cast<int>(h), img.channels = static_cast<int>(wanted.size());
     img.values.resize(static_cast<std::size_t>(w * h) * wanted.size());
-    const std::size_t table = at;
-    in.need(table, static_cast<std::size_t>(h) * 8, "the offset table");
     for (long long row = 0; row < h; ++row) {
         const std::uint64_t offset = in.u64(table + static_cast<std::size_t>(row) * 8, "the offset table");
         if (offset > s.size()) throw ImageDecodeError("OpenEXR offset table points past the end of the file (truncated file)");

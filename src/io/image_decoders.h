@@ -3,6 +3,7 @@
 // every size against the bytes it has before allocating, so truncated files, wrong sizes and
 // absurd dimensions fail with an ImageDecodeError, never a crash or a huge allocation.
 #pragma once
+#include <cstdint>
 #include <stdexcept>
 #include <string_view>
 #include <vector>

@@ -2,6 +2,9 @@
 // (counts per code length, symbols sorted by code): small, and each step checks its bounds.
 #include "io/inflate.h"
 
+#include "io/checksums.h"
+
+#include <algorithm>
 #include <array>
 #include <string>
 
@@ -88,7 +91,8 @@ constexpr std::uint8_t kDistExtra[30] = {0, 0, 0, 0, 1, 1, 2, 2, 3, 3, 4, 4, 5, 
 class Inflater {
 public:
     Inflater(std::string_view data, std::size_t expected) : m_in(data), m_expected(expected) {
-        m_out.reserve(expected);
+        // DEFLATE expands at most 1032:1, so a small stream cannot reserve much.
+        m_out.reserve(std::min(expected, data.size() * 1032 + 64));
     }
 
     std::vector<std::uint8_t> run() {
@@ -195,17 +199,6 @@ private:
 };
 
 }  // namespace
-
-std::uint32_t adler32(std::string_view data) {
-    std::uint32_t a = 1, b = 0;
-    for (std::size_t i = 0; i < data.size();) {
-        // 5552 bytes is the most that keeps b below 2^32 before the modulo (zlib's NMAX).
-        const std::size_t end = std::min(data.size(), i + 5552);
-        for (; i < end; ++i) a += static_cast<unsigned char>(data[i]), b += a;
-        a %= 65521u, b %= 65521u;
-    }
-    return b << 16 | a;
-}
 
 std::vector<std::uint8_t> zlib_decompress(std::string_view stream, std::size_t expected_size) {
     if (stream.size() < 6) throw InflateError("the zlib stream is too short");

@@ -15,9 +15,6 @@ struct InflateError : std::runtime_error {
     using std::runtime_error::runtime_error;
 };
 
-/// Adler-32 of `data` (RFC 1950 §8).
-std::uint32_t adler32(std::string_view data);
-
 /// Decompresses a zlib stream (2-byte header, DEFLATE blocks, Adler-32 trailer). The output
 /// must be exactly `expected_size` bytes (a PNG knows its size from its header): a longer
 /// stream stops with an error as soon as it would exceed it, so a small file cannot make

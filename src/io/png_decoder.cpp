@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <string>
 
+#include "io/checksums.h"
 #include "io/image_decoders.h"
 #include "io/inflate.h"
 
@@ -16,21 +17,6 @@ namespace {
 std::uint32_t be32(std::string_view s, std::size_t at) {
     return std::uint32_t(std::uint8_t(s[at])) << 24 | std::uint32_t(std::uint8_t(s[at + 1])) << 16 |
            std::uint32_t(std::uint8_t(s[at + 2])) << 8 | std::uint32_t(std::uint8_t(s[at + 3]));
-}
-
-std::uint32_t crc32(std::string_view data) {
-    static const auto table = [] {
-        std::array<std::uint32_t, 256> t{};
-        for (std::uint32_t n = 0; n < 256; ++n) {
-            std::uint32_t c = n;
-            for (int k = 0; k < 8; ++k) c = c & 1 ? 0xedb88320u ^ (c >> 1) : c >> 1;
-            t[n] = c;
-        }
-        return t;
-    }();
-    std::uint32_t c = 0xffffffffu;
-    for (char ch : data) c = table[(c ^ std::uint8_t(ch)) & 0xff] ^ (c >> 8);
-    return c ^ 0xffffffffu;
 }
 
 int paeth(int a, int b, int c) {

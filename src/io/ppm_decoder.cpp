@@ -83,9 +83,13 @@ DecodedImage decode_ppm(std::string_view s) {
     img.width = static_cast<int>(w), img.height = static_cast<int>(ht), img.channels = 3;
     img.integer_codes = !hdr;
     const std::size_t n = static_cast<std::size_t>(w * ht * 3);
-    img.values.resize(n);
     const double scale = hdr ? h.hdr_max() / static_cast<double>(maxval) : 1.0 / static_cast<double>(maxval);
     if (ascii) {
+        // Each sample takes a digit and a separator: a short file cannot claim a large image.
+        if (s.size() < 2 * n)
+            throw ImageDecodeError("PPM has fewer bytes than " + std::to_string(w) + "x" + std::to_string(ht) +
+                                   " pixels need (truncated file)");
+        img.values.resize(n);
         for (std::size_t i = 0; i < n; ++i) {
             const unsigned long long q = h.number("sample");
             if (q > maxval) throw ImageDecodeError("PPM sample " + std::to_string(q) + " exceeds maxval");
@@ -97,6 +101,7 @@ DecodedImage decode_ppm(std::string_view s) {
     if (s.size() - std::min(s.size(), start) < n * bytes)
         throw ImageDecodeError("PPM pixel data is shorter than " + std::to_string(w) + "x" + std::to_string(ht) +
                                " pixels need (truncated file)");
+    img.values.resize(n);
     for (std::size_t i = 0; i < n; ++i) {
         unsigned q = std::uint8_t(s[start + i * bytes]);
         if (bytes == 2) q = q << 8 | std::uint8_t(s[start + i * bytes + 1]);

@@ -125,7 +125,7 @@ struct Scene {
     SampledSpectrum emitted_textured(const Hit& hit, const SampledWavelengths& lambda) const;
     /// True when light `index` has an emission texture.
     bool light_textured(int index) const {
-        return !light_textures.empty() && light_textures[static_cast<std::size_t>(index)] >= 0;
+        return static_cast<std::size_t>(index) < light_textures.size() && light_textures[static_cast<std::size_t>(index)] >= 0;
     }
     /// Radiance of textured light `index` at the point p on it (a light sample's point).
     SampledSpectrum light_point_emission(int index, const Vec3& p, const SampledWavelengths& lambda) const;

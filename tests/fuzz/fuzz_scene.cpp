@@ -12,6 +12,7 @@
 #include <string>
 #include <string_view>
 
+#include "io/checksums.h"
 #include "io/image_decoders.h"
 #include "io/json.h"
 #include "io/ply_reader.h"
@@ -33,7 +34,18 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
 #if defined(SPT_FUZZ_PLY)
         spt::parse_ply(bytes, "fuzz.ply");
 #elif defined(SPT_FUZZ_PNG)
-        spt::decode_png(bytes);
+        // Mutations would nearly all break a chunk CRC and stop there: give every chunk its
+        // right CRC, so the chunks' contents (header, palette, compressed data) get fuzzed.
+        std::string png(bytes);
+        for (std::size_t at = 8; at + 12 <= png.size();) {
+            std::uint32_t length = 0;
+            for (int i = 0; i < 4; ++i) length = length << 8 | static_cast<unsigned char>(png[at + static_cast<std::size_t>(i)]);
+            if (length > png.size() - at - 12) break;
+            const std::uint32_t crc = spt::crc32(std::string_view(png).substr(at + 4, 4 + length));
+            for (int i = 0; i < 4; ++i) png[at + 8 + length + static_cast<std::size_t>(i)] = static_cast<char>(crc >> (24 - 8 * i));
+            at += 12 + length;
+        }
+        spt::decode_png(png);
 #else
         const spt::RelativeFileReader reader = [](const std::string& rel, std::string& contents,
                                                   std::string& display, std::string& why) {
