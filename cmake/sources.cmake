@@ -19,8 +19,15 @@ set(SPT_CORE_SOURCES
     src/model/bsdfs/lobe_mix.cpp
     src/model/bsdfs/plastic.cpp
     src/io/density_grid_reader.cpp
+    src/io/checksums.cpp
     src/io/embedded_files.cpp
+    src/io/exr_decoder.cpp
     src/io/exr_writer.cpp
+    src/io/image_decoders.cpp
+    src/io/inflate.cpp
+    src/io/pfm_decoder.cpp
+    src/io/png_decoder.cpp
+    src/io/ppm_decoder.cpp
     src/io/image_writer.cpp
     src/io/json.cpp
     src/io/pfm_writer.cpp
@@ -46,6 +53,8 @@ set(SPT_CORE_SOURCES
     src/scene/scene.cpp
     src/scene/scene_motion.cpp
     src/scene/scene_loader.cpp
+    src/scene/scene_textures.cpp
+    src/scene/texture_parser.cpp
     src/scene/spectrum_parser.cpp
     src/spectral/chromatic_adaptation.cpp
     src/spectral/cie.cpp
@@ -54,6 +63,7 @@ set(SPT_CORE_SOURCES
     src/spectral/observer.cpp
     src/spectral/sensor.cpp
     src/spectral/color_space.cpp
+    src/spectral/rgb_texels.cpp
     src/spectral/rgb_to_spectrum.cpp
     src/spectral/spectral_table.cpp
     src/spectral/spectrum.cpp

@@ -165,10 +165,6 @@ int run(const spt::Options& opt) {
         throw spt::UsageError(std::string("--spectral-bands: only with the path integrator (bdpt and vcm splats are "
                                           "not binned); the scene file chooses ") +
                               spt::integrator_name(integrator.settings.kind) + ", add --integrator path");
-    if (scene->effects.motion_blur && integrator.settings.kind == spt::IntegratorKind::vcm)
-        throw spt::UsageError(std::string("vcm cannot render motion blur (it merges photons of every path of a pass, "
-                                          "whatever their shutter time) and the scene moves (") +
-                              integrator.reason + "); use --integrator bdpt or path");
     std::vector<std::string> outputs = opt.outputs;
     if (outputs.empty()) outputs.push_back(scene->name + ".png");
     std::vector<std::string> warnings = scene->warnings;

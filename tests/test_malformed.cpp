@@ -1,6 +1,7 @@
 // The malformed-input corpus (tests/malformed/, expectations in expected.tsv): the real program
 // must reject each file with exit status 1 and one line "file:line:column: message" containing
-// the expected text, write no image, and never crash. PLY files are wrapped in a scene.
+// the expected text, write no image, and never crash. PLY files are wrapped in a scene as a
+// mesh, image files (.png, .ppm, .pfm, .exr) as a texture.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -27,6 +28,11 @@ std::string read_all(const fs::path& p) {
     return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
+bool is_image(const fs::path& p) {
+    const std::string ext = p.extension().string();
+    return ext == ".png" || ext == ".ppm" || ext == ".pfm" || ext == ".exr";
+}
+
 struct Case {
     std::string file, expected;
 };
@@ -49,7 +55,7 @@ TEST(MalformedCorpus, EveryFileIsListedAndTheCorpusIsLarge) {
     std::size_t files = 0;
     for (const auto& e : fs::directory_iterator(fs::path(SPT_TEST_DIR) / "malformed")) {
         const std::string ext = e.path().extension().string();
-        if (ext != ".json" && ext != ".ply") continue;
+        if (ext != ".json" && ext != ".ply" && !is_image(e.path())) continue;
         ++files;
         const std::string name = e.path().filename().string();
         EXPECT_TRUE(std::any_of(cases.begin(), cases.end(), [&](const Case& c) { return c.file == name; }))
@@ -75,6 +81,14 @@ TEST(MalformedCorpus, EachFileGivesOneLocatedErrorAndNoImage) {
                                     " \"materials\": {\"m\": {\"kd\": 0.5}},\n"
                                     " \"shapes\": [{\"type\": \"mesh\", \"file\": \""
                                  << input.string() << "\", \"material\": \"m\"}]}\n";
+        }
+        if (is_image(input)) {
+            scene = logs / "wrapper.json";
+            std::ofstream(scene) << "{\"camera\": {\"position\": [0, 0, 3], \"look_at\": [0, 0, 0]},\n"
+                                    " \"textures\": {\"t\": {\"type\": \"image\", \"file\": \""
+                                 << input.string() << "\"}},\n"
+                                    " \"materials\": {\"m\": {\"kd\": {\"texture\": \"t\"}}},\n"
+                                    " \"shapes\": [{\"type\": \"sphere\", \"center\": [0, 0, 0], \"radius\": 1, \"material\": \"m\"}]}\n";
         }
         const std::string cmd = "cd " + quote(work.string()) + " && " + quote(SPT_PATHTRACER) + " " +
                                 quote(scene.string()) + " --width 4 --height 4 --spp 1 --quiet -o out.png >" +

@@ -20,15 +20,23 @@ IntegratorChoice choose_integrator(const Options& options, const Scene& scene) {
     s.merge_radius = static_cast<float>(options.merge_radius.value_or(
         scene_integrator ? preset.merge_radius.value_or(s.merge_radius) : s.merge_radius));
     s.wavelengths_per_path = options.wavelengths_per_path;
-    if (s.kind != IntegratorKind::path) {
-        const char* feature = scene.effects.media                ? "participating media"
-                              : !scene.spot_light_indices.empty() ? "spot lights"
-                                                                  : nullptr;
-        if (feature)
-            throw UsageError(std::string("the ") + integrator_name(s.kind) + " integrator (" + c.reason +
-                             ") does not support " + feature + ", which scene '" + scene.name +
-                             "' has; expected --integrator path");
+    // Effects an integrator cannot render: a usage error, never a wrong image.
+    const char* feature = nullptr;
+    const char* instead = "--integrator path";
+    if (s.kind != IntegratorKind::path)
+        feature = scene.effects.media                ? "participating media"
+                  : !scene.spot_light_indices.empty() ? "spot lights"
+                  : scene.effects.textures           ? "textures"
+                                                     : nullptr;
+    if (!feature && s.kind == IntegratorKind::vcm && scene.effects.motion_blur) {
+        // Its merges join light subpaths of a whole pass, each at its own shutter time.
+        feature = "motion blur";
+        instead = "--integrator bdpt or path";
     }
+    if (feature)
+        throw UsageError(std::string("the ") + integrator_name(s.kind) + " integrator (" + c.reason +
+                         ") does not support " + feature + ", which scene '" + scene.name + "' has; expected " +
+                         instead);
     return c;
 }
 

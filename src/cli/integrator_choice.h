@@ -17,8 +17,8 @@ struct IntegratorChoice {
 };
 
 /// Throws UsageError when the chosen integrator cannot render the scene: bdpt and vcm
-/// refuse participating media and spot lights (only the path integrator has them) rather
-/// than render a silently wrong image.
+/// refuse participating media, spot lights and textures (only the path integrator has them),
+/// vcm refuses motion blur, rather than render a silently wrong image.
 IntegratorChoice choose_integrator(const Options& options, const Scene& scene);
 
 }  // namespace spt

@@ -8,6 +8,11 @@ namespace spt {
 struct EmbeddedFile {
     const char* name;  ///< path relative to the source tree, e.g. "spectra/cie_1931_2deg.csv"
     const char* text;
+    /// Binary files (PNG images, which hold zero bytes): their size in bytes. Text files: 0,
+    /// their text ends at its null byte.
+    std::size_t size;
+
+    std::string_view bytes() const { return size > 0 ? std::string_view(text, size) : std::string_view(text); }
 };
 
 extern const EmbeddedFile kEmbeddedSpectra[];

@@ -10,39 +10,12 @@
 #include <utility>
 #include <vector>
 
+#include "io/checksums.h"
 #include "io/image_encoders.h"
 #include "io/tone_map.h"
 
 namespace spt {
 namespace {
-
-// ---- checksums ------------------------------------------------------------------------------
-
-std::uint32_t crc32(const std::string& bytes, std::size_t begin, std::size_t end) {
-    static const std::array<std::uint32_t, 256> table = [] {
-        std::array<std::uint32_t, 256> t{};
-        for (std::uint32_t n = 0; n < 256; ++n) {
-            std::uint32_t c = n;
-            for (int k = 0; k < 8; ++k) c = (c & 1) ? 0xEDB88320u ^ (c >> 1) : c >> 1;
-            t[n] = c;
-        }
-        return t;
-    }();
-    std::uint32_t c = 0xFFFFFFFFu;
-    for (std::size_t i = begin; i < end; ++i) {
-        c = table[(c ^ static_cast<std::uint8_t>(bytes[i])) & 0xff] ^ (c >> 8);
-    }
-    return c ^ 0xFFFFFFFFu;
-}
-
-std::uint32_t adler32(const std::vector<std::uint8_t>& data) {
-    std::uint32_t a = 1, b = 0;
-    for (std::uint8_t byte : data) {
-        a = (a + byte) % 65521;
-        b = (b + a) % 65521;
-    }
-    return (b << 16) | a;
-}
 
 // ---- deflate (RFC 1951) ---------------------------------------------------------------------
 
@@ -372,7 +345,7 @@ std::string zlib_compress(const std::vector<std::uint8_t>& data) {
         begin = end;
     } while (begin < size);
     bits.align();
-    const std::uint32_t check = adler32(data);
+    const std::uint32_t check = adler32(std::string_view(reinterpret_cast<const char*>(data.data()), data.size()));
     for (int shift = 24; shift >= 0; shift -= 8) out.push_back(static_cast<char>(check >> shift));
     return out;
 }
@@ -388,7 +361,7 @@ void append_chunk(std::string& out, const char* type, const std::string& data) {
     const std::size_t start = out.size();
     out += type;
     out += data;
-    append_be32(out, crc32(out, start, out.size()));  // CRC covers type and data
+    append_be32(out, crc32(std::string_view(out).substr(start)));  // CRC covers type and data
 }
 
 /// 8-bit sRGB code of a display-linear value in [0, 1] (IEC 61966-2-1 OETF).

@@ -2,8 +2,10 @@
 // Emission is not a material property: an emitter is attached to the shape (Hit::light).
 #pragma once
 #include <string>
+#include <vector>
 
 #include "model/bsdfs/bsdf.h"
+#include "model/textures/texture_binding.h"
 
 namespace spt {
 
@@ -11,10 +13,18 @@ struct Material {
     std::string name;
     Bsdf bsdf;
     BsdfFlags flags;  ///< bsdf_flags(bsdf), kept by Scene::add_material / finalize
+    /// Some parameter is bound to a texture (`textures`): the integrators then take the BSDF
+    /// from Scene::textured_bsdf at each hit. One byte in the padding after `flags`.
+    bool textured = false;
 
     /// Has a lobe at all (a pure emitter or a black surface ends paths).
     bool reflects() const { return !flags.is_black(); }
     bool has_non_delta() const { return flags.has(BsdfFlags::non_delta); }
+
+    /// The bound parameters; `bsdf` holds each one's upper envelope over its texture (every
+    /// bin's largest value), so the flags and the load-time checks (kd + ks + kt ≤ 1) hold
+    /// at every point of the surface.
+    std::vector<TextureBinding> textures;
 };
 
 }  // namespace spt

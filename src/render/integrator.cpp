@@ -16,7 +16,7 @@ namespace {
 /// no MIS).
 /// Out of line: scenes without point lights never call it, and inlined it changes the
 /// register allocation of the whole path loop (about 3 % more instructions per path).
-[[gnu::noinline]] SampledSpectrum sample_point_lights(const Scene& scene, const Material& mat, const Hit& hit,
+[[gnu::noinline]] SampledSpectrum sample_point_lights(const Scene& scene, const Bsdf& bsdf, const Hit& hit,
                                                       const Vec3& wo, const SampledWavelengths& lambda, float time,
                                                       PathStats& stats) {
     SampledSpectrum Ld(0.f);
@@ -27,7 +27,7 @@ namespace {
         const float dist2 = length_squared(to_light);
         if (!(dist2 > 0.f)) continue;  // light exactly on the surface: no defined direction
         const Vec3 wi = to_light / std::sqrt(dist2);
-        const SampledSpectrum f_cos = bsdf_eval(mat.bsdf, wo, wi, hit.ns, lambda, TransportMode::radiance);
+        const SampledSpectrum f_cos = bsdf_eval(bsdf, wo, wi, hit.ns, lambda, TransportMode::radiance);
         if (f_cos.is_zero()) continue;
         ++stats.rays;
         if (scene.occluded(spawn_ray_to(hit, position), -1, time)) continue;
@@ -37,7 +37,7 @@ namespace {
         const std::optional<LightSample> ls = std::get_if<SpotLight>(&scene.lights[i])->sample_li(
             {hit.p, hit.p_err, hit.n, hit.ns, false}, lambda);
         if (!ls) continue;
-        const SampledSpectrum f_cos = bsdf_eval(mat.bsdf, wo, ls->wi, hit.ns, lambda, TransportMode::radiance);
+        const SampledSpectrum f_cos = bsdf_eval(bsdf, wo, ls->wi, hit.ns, lambda, TransportMode::radiance);
         if (f_cos.is_zero()) continue;
         ++stats.rays;
         if (scene.occluded(spawn_ray_to(hit, ls->p), -1, time)) continue;
@@ -50,15 +50,20 @@ namespace {
 /// weighted against BSDF sampling by the power heuristic (Veach 1997, §9.2). Flattened (all
 /// its callees inlined into it, the shadow ray's offsets above all): out of line, they took
 /// 13 % of the time per path on cornell-sphere; the path loop, which calls it, stays small.
+/// kTextured: the scene has textures, and a light with an emission texture gives the
+/// texture's radiance at the sampled point.
+template <bool kTextured>
 [[gnu::noinline, gnu::flatten]] SampledSpectrum sample_area_light(
-    const Scene& scene, const LightDistribution& choices, const Material& mat, const Hit& hit,
+    const Scene& scene, const LightDistribution& choices, const Bsdf& bsdf, const Hit& hit,
     const LightSampleContext& ctx, const Vec3& wo, const SampledWavelengths& lambda, float time, float u_light,
     float u1, float u2, bool mis, PathStats& stats) {
     float choice = 0.f;
     const int index = choices.sample(u_light, choice);
-    const std::optional<LightSample> ls = light_sample_li(scene.lights[index], ctx, lambda, u1, u2);
+    std::optional<LightSample> ls = light_sample_li(scene.lights[index], ctx, lambda, u1, u2);
     if (!ls) return SampledSpectrum(0.f);
-    const SampledSpectrum f_cos = bsdf_eval(mat.bsdf, wo, ls->wi, hit.ns, lambda, TransportMode::radiance);
+    if constexpr (kTextured)
+        if (scene.light_textured(index)) ls->L = scene.light_point_emission(index, ls->p, lambda);
+    const SampledSpectrum f_cos = bsdf_eval(bsdf, wo, ls->wi, hit.ns, lambda, TransportMode::radiance);
     if (f_cos.is_zero()) return SampledSpectrum(0.f);
     ++stats.rays;
     Ray shadow;
@@ -79,7 +84,7 @@ namespace {
     if (scene.occluded(shadow, skip_sphere, time)) return SampledSpectrum(0.f);
     const float pdf_light = choice * ls->pdf;
     if (!mis) return f_cos * ls->L / pdf_light;
-    const float pdf_bsdf = bsdf_pdf(mat.bsdf, wo, ls->wi, hit.ns, lambda.lambda[0]);
+    const float pdf_bsdf = bsdf_pdf(bsdf, wo, ls->wi, hit.ns, lambda.lambda[0]);
     return f_cos * ls->L * (power_heuristic(pdf_light, pdf_bsdf) / pdf_light);
 }
 
@@ -93,16 +98,17 @@ namespace {
     return power_heuristic(pdf_bsdf, choice * light_pdf_li(scene.lights[index], prev, wi, hit));
 }
 
-}  // namespace
+struct NoScratch {};
 
-// Inlined into the renderer's sample loop at link time (LTO builds): the ray, wavelengths and
-// random state then stay in registers instead of passing through memory, and the loop is
-// optimised together with its caller (5 % of the time per path). Defining it in the header
-// instead gives worse code. Not `inline`, hence GCC's warning, which is expected here.
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wattributes"
-[[gnu::always_inline]] SampledSpectrum trace_path(const Scene& scene, const IntegratorSettings& settings, Ray ray,
-                                                  float time, SampledWavelengths& lambda, Rng& rng, PathStats& stats) {
+/// The path loop. kTextured (scenes with textures only): materials with textures take their
+/// BSDF from the scene at each hit, and emitters their radiance; without, this is the loop
+/// of before, unchanged.
+template <bool kTextured>
+[[gnu::always_inline]] inline SampledSpectrum path_loop(const Scene& scene, const IntegratorSettings& settings,
+                                                        Ray ray, float time, SampledWavelengths& lambda,
+                                                        Rng& rng, PathStats& stats) {
+    // Where a textured material's BSDF is made at each hit (kept across bounces: no allocation).
+    [[maybe_unused]] std::conditional_t<kTextured, Bsdf, NoScratch> scratch;
     SampledSpectrum L(0.f), beta(1.f);
     float eta_scale = 1.f;
     const bool point_nee = scene.effects.point_lights;
@@ -137,26 +143,31 @@ namespace {
         if (hit->light >= 0) {
             const float w =
                 mis_emission ? emission_weight(scene, choices, hit->light, prev_ctx, prev_pdf, ray.d, &*hit) : 1.f;
-            L += beta * scene.emitted(*hit, lambda) * w;
+            if constexpr (kTextured) L += beta * scene.emitted_textured(*hit, lambda) * w;
+            else L += beta * scene.emitted(*hit, lambda) * w;
         }
         if (!mat.reflects() || depth == settings.max_depth) break;
+        const Bsdf* bsdf_at_hit = &mat.bsdf;
+        if constexpr (kTextured)
+            if (mat.textured) bsdf_at_hit = &scene.textured_bsdf(*hit, scratch);
+        const Bsdf& bsdf = *bsdf_at_hit;
 
         // ---- Next-event estimation at vertices with a non-delta lobe: every point light,
         // and one other light chosen by power ----
         const bool non_delta = mat.has_non_delta();
-        if (point_nee && non_delta) L += beta * sample_point_lights(scene, mat, *hit, wo, lambda, time, stats);
+        if (point_nee && non_delta) L += beta * sample_point_lights(scene, bsdf, *hit, wo, lambda, time, stats);
         LightSampleContext ctx;
         if (area_nee && non_delta) {
             ctx = light_context(*hit, mat, wo);
             const float ul = rng.uniform(), ul1 = rng.uniform(), ul2 = rng.uniform();
-            L += beta * sample_area_light(scene, choices, mat, *hit, ctx, wo, lambda, time, ul, ul1, ul2,
+            L += beta * sample_area_light<kTextured>(scene, choices, bsdf, *hit, ctx, wo, lambda, time, ul, ul1, ul2,
                                           settings.light_sampling == LightSampling::mis, stats);
         }
 
         // ---- Continue the path ----
         const float u_lobe = rng.uniform(), u1 = rng.uniform(), u2 = rng.uniform();
         const std::optional<BsdfSample> bs =
-            bsdf_sample(mat.bsdf, wo, hit->ns, lambda, u_lobe, u1, u2, TransportMode::radiance);
+            bsdf_sample(bsdf, wo, hit->ns, lambda, u_lobe, u1, u2, TransportMode::radiance);
         if (!bs) break;
         beta *= bs->weight;
         eta_scale *= bs->eta_scale;
@@ -182,6 +193,26 @@ namespace {
         }
     }
     return L;
+}
+
+[[gnu::noinline]] SampledSpectrum textured_path(const Scene& scene, const IntegratorSettings& settings, Ray ray,
+                                                float time, SampledWavelengths& lambda, Rng& rng, PathStats& stats) {
+    return path_loop<true>(scene, settings, ray, time, lambda, rng, stats);
+}
+
+}  // namespace
+
+// Inlined into the renderer's sample loop at link time (LTO builds): the ray, wavelengths and
+// random state then stay in registers instead of passing through memory, and the loop is
+// optimised together with its caller (5 % of the time per path). Defining it in the header
+// instead gives worse code. Not `inline`, hence GCC's warning, which is expected here.
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wattributes"
+[[gnu::always_inline]] SampledSpectrum trace_path(const Scene& scene, const IntegratorSettings& settings, Ray ray,
+                                                  float time, SampledWavelengths& lambda, Rng& rng, PathStats& stats) {
+    // Textured scenes take their own instance of the loop, out of line.
+    if (scene.effects.textures) [[unlikely]] return textured_path(scene, settings, ray, time, lambda, rng, stats);
+    return path_loop<false>(scene, settings, ray, time, lambda, rng, stats);
 }
 #pragma GCC diagnostic pop
 

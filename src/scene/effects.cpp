@@ -19,6 +19,7 @@ std::string Effects::describe() const {
     add(depth_of_field, "depth of field");
     add(motion_blur, "motion blur");
     add(media, "participating media");
+    add(textures, "textures");
     return s.empty() ? "none" : s;
 }
 

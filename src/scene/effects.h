@@ -16,6 +16,7 @@ struct Effects {
     bool depth_of_field = false;     ///< thin-lens camera: rays start on the aperture
     bool motion_blur = false;        ///< something moves while the shutter is open
     bool media = false;              ///< participating media: the volumetric path tracer
+    bool textures = false;           ///< a material or emitter bound to a texture
 
     std::string describe() const;
 };

@@ -62,6 +62,7 @@ void Scene::disable_dispersion() {
 
 int Scene::add_material(Material m) {
     m.flags = bsdf_flags(m.bsdf);
+    m.textured = !m.textures.empty();
     materials.push_back(std::move(m));
     return static_cast<int>(materials.size()) - 1;
 }
@@ -74,6 +75,7 @@ void Scene::set_background(Spectrum radiance) {
     for (std::size_t i = 0; i < lights.size(); ++i) {
         if (!std::holds_alternative<EnvironmentLight>(lights[i])) continue;
         lights.erase(lights.begin() + static_cast<std::ptrdiff_t>(i));
+        if (i < light_textures.size()) light_textures.erase(light_textures.begin() + static_cast<std::ptrdiff_t>(i));
         // Later lights moved down by one: so must the shapes' indices of them.
         for_each_shape_array([&](auto& shapes) {
             for (auto& shape : shapes)
@@ -221,6 +223,10 @@ void Scene::finalize() {
     for (Material& m : materials) {
         validate_material(m);
         m.flags = bsdf_flags(m.bsdf);
+        m.textured = !m.textures.empty();
+        for (const TextureBinding& b : m.textures)
+            require(b.parameter && b.texture >= 0 && b.texture < static_cast<int>(textures.size()),
+                    "material '" + m.name + "' refers to a texture that does not exist");
     }
     auto check_material_index = [&](int index, const std::string& who) {
         require(index >= 0 && index < static_cast<int>(materials.size()),
@@ -361,13 +367,14 @@ void Scene::finalize() {
             effects.mirror |= m.flags.has(BsdfFlags::delta);
             effects.transmission |= m.flags.has(BsdfFlags::transmission);
             effects.dispersion |= m.flags.has(BsdfFlags::dispersive);
+            effects.textures |= m.textured;
         }
     };
     for_each_shape_array(material_effects);
+    require(media.empty() || !effects.motion_blur,
+            "participating media and motion blur cannot be rendered together yet; expected one of them");
     finalize_media();
     effects.media = !media.empty();
-    require(!(effects.media && effects.motion_blur),
-            "participating media and motion blur cannot be rendered together yet; expected one of them");
     // Triangles of meshes, instanced meshes and moving shapes alike.
     for_each_shape_array([&](const auto& shapes) {
         if constexpr (std::is_same_v<std::decay_t<decltype(shapes[0])>, Triangle>)
@@ -375,6 +382,19 @@ void Scene::finalize() {
                 effects.shading_normals |=
                     t.attributes >= 0 && triangle_attributes[static_cast<std::size_t>(t.attributes)].has_normals;
     });
+    if (!light_textures.empty()) {
+        light_textures.resize(lights.size(), -1);
+        for (std::size_t i = 0; i < lights.size(); ++i) {
+            const int t = light_textures[i];
+            if (t < 0) continue;
+            require(t < static_cast<int>(textures.size()), "an emitter refers to a texture that does not exist");
+            require(!std::holds_alternative<TriangleMeshLight>(lights[i]) && !std::holds_alternative<PointLight>(lights[i]) &&
+                        !std::holds_alternative<EnvironmentLight>(lights[i]),
+                    "an emission texture is on a light without surface coordinates (a triangle, mesh, point "
+                    "light or the background)");
+            effects.textures = true;
+        }
+    }
 }
 
 void Scene::finalize_media() {

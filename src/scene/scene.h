@@ -22,6 +22,7 @@
 #include "model/lights/light_distribution.h"
 #include "model/media/medium.h"
 #include "model/material.h"
+#include "model/textures/texture.h"
 #include "render/integrator_kind.h"
 #include "scene/effects.h"
 
@@ -95,6 +96,14 @@ struct Scene {
         return shape_media[static_cast<std::size_t>(prim.kind())][prim.index()];
     }
 
+    /// Textures that material parameters (Material::textures) and emitters (light_textures)
+    /// are bound to.
+    std::vector<Texture> textures;
+    /// Per light: the texture its emission is bound to, or −1 (empty: none is). Only area
+    /// lights whose points have surface coordinates (spheres, quads, planes, disks,
+    /// cylinders, cones) may have one.
+    std::vector<int> light_textures;
+
     Effects effects;  ///< filled by finalize()
 
     /// Derived by finalize(): the point lights (each sampled at every vertex: no random
@@ -132,6 +141,20 @@ struct Scene {
     }
     /// Surface coordinates of a hit (see each shape's uv()).
     void surface_uv(const Hit& hit, float& u, float& v) const;
+
+    // Textures (scene_textures.cpp): only integrators of scenes with effects.textures call these.
+    /// The BSDF of a textured material at `hit`: `scratch` becomes the material's BSDF with
+    /// each bound parameter set to its texture's value at the hit's (u, v); returns it.
+    /// Allocates nothing once `scratch` has held this material's BSDF.
+    const Bsdf& textured_bsdf(const Hit& hit, Bsdf& scratch) const;
+    /// emitted() with textured emitters read at the hit's (u, v).
+    SampledSpectrum emitted_textured(const Hit& hit, const SampledWavelengths& lambda) const;
+    /// True when light `index` has an emission texture.
+    bool light_textured(int index) const {
+        return static_cast<std::size_t>(index) < light_textures.size() && light_textures[static_cast<std::size_t>(index)] >= 0;
+    }
+    /// Radiance of textured light `index` at the point p on it (a light sample's point).
+    SampledSpectrum light_point_emission(int index, const Vec3& p, const SampledWavelengths& lambda) const;
     /// Checks every value (throws SceneError naming the culprit), analyses the effects and
     /// builds the acceleration data (the BVH when there are enough bounded shapes).
     void finalize();

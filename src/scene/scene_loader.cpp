@@ -12,6 +12,7 @@
 #include <map>
 #include <sstream>
 #include <stdexcept>
+#include <cstring>
 
 #include "io/embedded_files.h"
 #include "geometry/mesh_closure.h"
@@ -20,6 +21,7 @@
 #include "scene/material_types.h"
 #include "scene/medium_parser.h"
 #include "scene/spectrum_parser.h"
+#include "scene/texture_parser.h"
 
 namespace spt {
 
@@ -30,13 +32,14 @@ namespace {
 class Loader : public JsonChecker {
 public:
     Loader(const std::string& origin, SpectralResolution resolution, const RelativeFileReader& read_relative)
-        : JsonChecker(origin), m_spectra(origin, resolution), m_read_relative(read_relative) {}
+        : JsonChecker(origin), m_spectra(origin, resolution), m_read_relative(read_relative),
+          m_textures(origin, resolution, m_spectra, read_relative, m_scene) {}
 
     Scene load(const JsonValue& root, const std::string& name) {
         m_scene.name = name;
         const JsonValue& top = object(root, "the scene");
         check_keys(top, "the scene",
-                   {"description", "summary", "camera", "image", "integrator", "background", "materials", "media", "medium",
+                   {"description", "summary", "camera", "image", "integrator", "background", "textures", "materials", "media", "medium",
                     "shapes", "lights"});
         if (const JsonValue* d = top.find("description")) m_scene.summary = first_sentence(string(*d, "description"));
         if (const JsonValue* s = top.find("summary")) m_scene.summary = one_line(*s, "summary");
@@ -45,6 +48,7 @@ public:
         if (const JsonValue* integrator = top.find("integrator")) integrator_preset(*integrator);
         if (const JsonValue* bg = top.find("background"))
             m_scene.set_background(spectrum(*bg, "background", SpectrumUse::Emission));
+        if (const JsonValue* tex = top.find("textures")) m_textures.definitions(*tex);
         if (const JsonValue* mats = top.find("materials")) materials(*mats);
         if (const JsonValue* media = top.find("media")) media_section(*media);
         if (const JsonValue* m = top.find("medium")) m_scene.camera_medium = medium_ref(*m, "medium");
@@ -67,9 +71,12 @@ private:
     SpectrumParser m_spectra;
     const RelativeFileReader& m_read_relative;
     Scene m_scene;
+    TextureParser m_textures;
     std::map<std::string, int> m_material_index;
     /// Emission of each material (zero if none), attached to every shape that uses it.
     std::vector<Spectrum> m_material_emission;
+    /// The texture of each material's emission, or −1.
+    std::vector<int> m_material_emission_texture;
 
     Spectrum spectrum(const JsonValue& v, const std::string& what, SpectrumUse use) const {
         return m_spectra.spectrum(v, what, use);
@@ -263,20 +270,32 @@ private:
             object(def, what);
             Material m;
             m.name = name;
+            // Parameters given as {"texture": NAME}: the parameter's key and the texture.
+            std::vector<std::pair<std::string, int>> bound;
+            auto reflectance = [&](const JsonValue& x, const char* key) {
+                if (!TextureParser::is_binding(x)) return spectrum(x, what + " " + key, SpectrumUse::Reflectance);
+                const int t = m_textures.bind(x, what + " " + key, TextureUse::reflectance);
+                bound.emplace_back(key, t);
+                return m_textures.envelope(t);
+            };
             std::string type = "lobes";
             if (const JsonValue* t = def.find("type")) type = string(*t, what + " type");
             if (type == "diffuse") {
                 check_keys(def, what + " of type \"diffuse\"", {"type", "kd", "emission"});
                 DiffuseBsdf d;
-                if (const JsonValue* x = def.find("kd")) d.kd = spectrum(*x, what + " kd", SpectrumUse::Reflectance);
+                if (const JsonValue* x = def.find("kd")) d.kd = reflectance(*x, "kd");
                 m.bsdf = std::move(d);
             } else if (type == "lobes") {
                 check_keys(def, what, {"type", "kd", "ks", "kt", "ior", "emission"});
                 LobeMixBsdf b;
-                if (const JsonValue* x = def.find("kd")) b.kd = spectrum(*x, what + " kd", SpectrumUse::Reflectance);
-                if (const JsonValue* x = def.find("ks")) b.ks = spectrum(*x, what + " ks", SpectrumUse::Reflectance);
-                if (const JsonValue* x = def.find("kt")) b.kt = spectrum(*x, what + " kt", SpectrumUse::Reflectance);
-                if (const JsonValue* x = def.find("ior")) b.eta = spectrum(*x, what + " ior", SpectrumUse::Index);
+                if (const JsonValue* x = def.find("kd")) b.kd = reflectance(*x, "kd");
+                if (const JsonValue* x = def.find("ks")) b.ks = reflectance(*x, "ks");
+                if (const JsonValue* x = def.find("kt")) b.kt = reflectance(*x, "kt");
+                if (const JsonValue* x = def.find("ior")) {
+                    if (TextureParser::is_binding(*x))
+                        fail(x->pos(), what + " ior cannot be bound to a texture; expected a spectrum");
+                    b.eta = spectrum(*x, what + " ior", SpectrumUse::Index);
+                }
                 if (b.has_transmission() && !def.find("ior"))
                     fail(def.pos(), what + " has kt but no \"ior\"; expected an index of refraction");
                 // Only a diffuse lobe: the diffuse type, which behaves identically and is
@@ -291,13 +310,42 @@ private:
                 fail(def.find("type")->pos(), "unknown material type " + quote_text(type) + "." +
                                                   suggestion(type, types) + " Expected one of: " + join(types));
             }
+            for (const auto& [key, texture] : bound) {
+                const TexturableParameter* p = find_texturable(m.bsdf.index(), key);
+                if (!p) fail(def.find(key)->pos(), what + " " + key + " cannot be bound to a texture; expected a spectrum");
+                m.textures.push_back({p, texture});
+            }
             Spectrum emission;
-            if (const JsonValue* x = def.find("emission"))
-                emission = spectrum(*x, what + " emission", SpectrumUse::Emission);
+            int emission_texture = -1;
+            if (const JsonValue* x = def.find("emission")) emission = emission_value(*x, what, emission_texture);
             add_material(std::move(m), def.pos());
             m_material_emission.push_back(std::move(emission));
+            m_material_emission_texture.push_back(emission_texture);
             m_material_index[name] = static_cast<int>(m_scene.materials.size()) - 1;
         }
+    }
+
+    /// An emission spectrum, or {"texture": NAME, "scale": S}: then `texture` is set and the
+    /// result is the texture's envelope (the light's power for light selection).
+    Spectrum emission_value(const JsonValue& x, const std::string& what, int& texture) {
+        if (!TextureParser::is_binding(x)) return spectrum(x, what + " emission", SpectrumUse::Emission);
+        texture = m_textures.bind(x, what + " emission", TextureUse::emission);
+        return m_textures.envelope(texture);
+    }
+
+    /// Makes the emitter of a shape; a textured one records its texture, which needs surface
+    /// coordinates on the light.
+    template <typename MakeEmitter>
+    int emitter(const MakeEmitter& make_emitter, const Spectrum& le, int texture, const JsonValue& at,
+                const std::string& what) {
+        const int light = make_emitter(le);
+        if (texture < 0) return light;
+        if (std::holds_alternative<TriangleMeshLight>(m_scene.lights[static_cast<std::size_t>(light)]))
+            fail(at.pos(), what + " has a textured emission, which triangles and meshes do not support yet; expected "
+                                  "a sphere, quad, plane, disk, cylinder or cone");
+        m_scene.light_textures.resize(m_scene.lights.size(), -1);
+        m_scene.light_textures[static_cast<std::size_t>(light)] = texture;
+        return light;
     }
 
     int add_material(Material m, TextPos pos) {
@@ -334,10 +382,12 @@ private:
             Material m;
             m.name = what + " emission";
             m.bsdf = DiffuseBsdf{};  // reflects nothing
-            const Spectrum le = spectrum(*emission, what + " emission", SpectrumUse::Emission);
+            int texture = -1;
+            const Spectrum le = emission_value(*emission, what, texture);
             surface.material = add_material(std::move(m), emission->pos());
             m_material_emission.emplace_back();
-            if (!le.is_zero()) surface.light = make_emitter(le);
+            m_material_emission_texture.push_back(-1);
+            if (!le.is_zero()) surface.light = emitter(make_emitter, le, texture, *emission, what);
             return surface;
         }
         if (!name && (v.find("interior") || v.find("exterior"))) {
@@ -349,7 +399,8 @@ private:
         if (auto it = m_material_index.find(n); it != m_material_index.end()) {
             surface.material = it->second;
             const Spectrum& le = m_material_emission[static_cast<std::size_t>(it->second)];
-            if (!le.is_zero()) surface.light = make_emitter(le);
+            const int texture = m_material_emission_texture[static_cast<std::size_t>(it->second)];
+            if (!le.is_zero()) surface.light = emitter(make_emitter, le, texture, v, what);
             return surface;
         }
         std::vector<std::string> known;
@@ -580,6 +631,20 @@ private:
                 v, what, [&](const Spectrum& le) { return m_scene.add_quad_emitter(a, b - a, d - a, le); });
             add_triangle(a, b, c, m, v.pos(), what);
             add_triangle(a, c, d, m, v.pos(), what);
+            // (u, v) = the position along edge1 and edge2, each in [0, 1] (Scene::surface_uv),
+            // for quads with a texture: vertex attributes on other quads would cost a look-up
+            // at every hit (Scene::triangle_hit) for coordinates nothing reads.
+            const bool textured = m_scene.materials[static_cast<std::size_t>(m.material)].textured ||
+                                  (m.light >= 0 && m_scene.light_textured(m.light));
+            const float uv[2][3][2] = {{{0, 0}, {1, 0}, {1, 1}}, {{0, 0}, {1, 1}, {0, 1}}};
+            for (int k = 0; k < 2 && textured; ++k) {
+                TriangleAttributes attr;
+                std::memcpy(attr.uv, uv[k], sizeof attr.uv);
+                attr.has_uv = true;
+                m_scene.triangles[m_scene.triangles.size() - 2 + static_cast<std::size_t>(k)].attributes =
+                    static_cast<int>(m_scene.triangle_attributes.size());
+                m_scene.triangle_attributes.push_back(attr);
+            }
         } else if (type == "triangle") {
             check_keys(v, what, {"type", "vertices", "material", "emission", "motion", "interior", "exterior"});
             const JsonValue& vs = required(v, "vertices", what);
@@ -791,7 +856,7 @@ std::optional<Scene> load_builtin_scene(const std::string& name, SpectralResolut
             why = "no such built-in file";
             return false;
         }
-        contents = f->text;
+        contents = f->bytes();
         return true;
     };
     return load_scene_text(embedded->text, file, name, resolution, reader);

@@ -6,17 +6,21 @@
 namespace spt {
 
 std::vector<float> project_onto_bins(const SpectrumSource& source, int bins) {
+    return project_onto_bins([&](double l) { return source.eval(l); }, bins);
+}
+
+std::vector<float> project_onto_bins(const std::function<double(double)>& source_eval, int bins) {
     const double lo = Spectrum::kBinMin, width = (Spectrum::kBinMax - Spectrum::kBinMin) / bins;
     // Midpoint samples of the source, kBinSubsamples per bin.
     const int samples = bins * kBinSubsamples;
     const double step = width / kBinSubsamples;
     std::vector<double> f(samples);
     double f_min = kInfinity, f_max = -kInfinity;
-    for (int k = 0; k < samples; ++k) f[k] = source.eval(lo + (k + 0.5) * step);
+    for (int k = 0; k < samples; ++k) f[k] = source_eval(lo + (k + 0.5) * step);
     // The source's range (for the clamp below) from a 0.5 nm scan, which includes the
     // integer wavelengths where tabulated data has its points.
     for (double l = lo; l <= Spectrum::kBinMax; l += 0.5) {
-        const double v = source.eval(l);
+        const double v = source_eval(l);
         f_min = std::min(f_min, v), f_max = std::max(f_max, v);
     }
     if (bins == 1) {
@@ -83,6 +87,19 @@ Spectrum::Spectrum(SpectrumSource source, SpectralResolution resolution)
         const float v = static_cast<float>(m_source.eval(l));
         m_max = std::max(m_max, v), m_min = std::min(m_min, v);
     }
+}
+
+void Spectrum::assign_bins(std::span<const float> bins) {
+    const std::size_t n = bins.size();
+    m_constant = m_zero = false;
+    // As the constructor lays them out: the bins, the last once more (one bin: twice more).
+    m_lookup.resize(n == 1 ? 3 : n + 1);
+    std::copy(bins.begin(), bins.end(), m_lookup.begin());
+    std::fill(m_lookup.begin() + static_cast<std::ptrdiff_t>(n), m_lookup.end(), bins[n - 1]);
+    m_inv_bin_width = n == 1 ? 0.f : static_cast<float>(n / double(kBinMax - kBinMin));
+    m_last_bin = static_cast<float>(n == 1 ? 1 : n - 1);
+    const auto [lo, hi] = std::minmax_element(bins.begin(), bins.end());
+    m_min = *lo, m_max = *hi;
 }
 
 }  // namespace spt

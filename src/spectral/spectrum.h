@@ -2,6 +2,7 @@
 // evaluates the bins (fast, the default) or the source itself (--spectral-bins exact).
 #pragma once
 #include <cstring>
+#include <functional>
 #include <span>
 #include <vector>
 
@@ -19,6 +20,9 @@ inline constexpr int kBinSubsamples = 64;
 /// finer than a bin (the 5 nm lines of D65): ColorChecker under D65 at 16 bins goes from mean
 /// ΔE2000 0.56 (point samples) to 0.15 (see validation/results/color_accuracy.md).
 std::vector<float> project_onto_bins(const SpectrumSource& source, int bins);
+/// The same projection for any function of λ (nm): a texel's spectrum that is no single
+/// source, such as an RGB fit times an illuminant.
+std::vector<float> project_onto_bins(const std::function<double(double)>& f, int bins);
 
 /// How spectra are represented in a scene: N bins, or exact evaluation of the sources.
 struct SpectralResolution {
@@ -64,6 +68,12 @@ public:
         const Float4 hi = {b[i[0] + 1], b[i[1] + 1], b[i[2] + 1], b[i[3] + 1]};
         return SampledSpectrum((1.f - t) * lo + t * hi);
     }
+
+    /// Makes this the binned spectrum of these bin values (a texture's value at a point):
+    /// the look-up, bounds and flags follow them. Reuses the storage, so a spectrum that
+    /// has held as many bins before allocates nothing. The analytic source is left as it
+    /// was; only the checks at load time read it.
+    void assign_bins(std::span<const float> bins);
 
     const SpectrumSource& source() const { return m_source; }
     /// The bin values (empty in exact mode).

@@ -3,18 +3,22 @@
 //   fuzz_scene: bytes → JSON reader → scene loader (a mesh named "a.ply" resolves to a small
 //               valid PLY, any other file name fails to open).
 //   fuzz_ply:   bytes → PLY reader.
-// The only exception allowed to escape is LocatedError (the clean "file:line:column" error);
-// anything else, and any crash, leak or undefined behaviour, is a finding.
+//   fuzz_png:   bytes → PNG reader (with our inflate).
+// The only exception allowed to escape is LocatedError (the clean "file:line:column" error;
+// for fuzz_png ImageDecodeError, the reader's own); anything else, and any crash, leak or
+// undefined behaviour, is a finding.
 #include <cstddef>
 #include <cstdint>
 #include <string>
 #include <string_view>
 
+#include "io/checksums.h"
+#include "io/image_decoders.h"
 #include "io/json.h"
 #include "io/ply_reader.h"
 #include "scene/scene_loader.h"
 
-#ifndef SPT_FUZZ_PLY
+#if !defined(SPT_FUZZ_PLY) && !defined(SPT_FUZZ_PNG)
 namespace {
 
 const char* kPly =
@@ -27,8 +31,21 @@ const char* kPly =
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     const std::string_view bytes(reinterpret_cast<const char*>(data), size);
     try {
-#ifdef SPT_FUZZ_PLY
+#if defined(SPT_FUZZ_PLY)
         spt::parse_ply(bytes, "fuzz.ply");
+#elif defined(SPT_FUZZ_PNG)
+        // Mutations would nearly all break a chunk CRC and stop there: give every chunk its
+        // right CRC, so the chunks' contents (header, palette, compressed data) get fuzzed.
+        std::string png(bytes);
+        for (std::size_t at = 8; at + 12 <= png.size();) {
+            std::uint32_t length = 0;
+            for (int i = 0; i < 4; ++i) length = length << 8 | static_cast<unsigned char>(png[at + static_cast<std::size_t>(i)]);
+            if (length > png.size() - at - 12) break;
+            const std::uint32_t crc = spt::crc32(std::string_view(png).substr(at + 4, 4 + length));
+            for (int i = 0; i < 4; ++i) png[at + 8 + length + static_cast<std::size_t>(i)] = static_cast<char>(crc >> (24 - 8 * i));
+            at += 12 + length;
+        }
+        spt::decode_png(png);
 #else
         const spt::RelativeFileReader reader = [](const std::string& rel, std::string& contents,
                                                   std::string& display, std::string& why) {
@@ -44,6 +61,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         spt::load_scene_text(bytes, "fuzz.json", "fuzz", spt::SpectralResolution{4}, reader);
 #endif
     } catch (const spt::LocatedError&) {
+    } catch (const spt::ImageDecodeError&) {
     }
     return 0;
 }

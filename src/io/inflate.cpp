@@ -1,0 +1,224 @@
+// Canonical-Huffman DEFLATE decoder in the manner of zlib's "puff" reference decoder
+// (counts per code length, symbols sorted by code): small, and each step checks its bounds.
+#include "io/inflate.h"
+
+#include "io/checksums.h"
+
+#include <algorithm>
+#include <array>
+#include <string>
+
+namespace spt {
+
+namespace {
+
+constexpr int kMaxBits = 15;  // longest DEFLATE code
+
+/// Bits of the stream, least significant first (RFC 1951 §3.1.1).
+class BitReader {
+public:
+    explicit BitReader(std::string_view data) : m_data(data) {}
+
+    unsigned bits(int n) {
+        unsigned v = 0;
+        for (int i = 0; i < n; ++i) v |= bit() << i;
+        return v;
+    }
+    unsigned bit() {
+        if (m_pos >= m_data.size()) throw InflateError("the compressed data ends early (truncated stream)");
+        const unsigned b = (static_cast<unsigned char>(m_data[m_pos]) >> m_bit) & 1u;
+        if (++m_bit == 8) m_bit = 0, ++m_pos;
+        return b;
+    }
+    /// Skips to the next byte boundary (stored blocks start there).
+    void align() {
+        if (m_bit != 0) m_bit = 0, ++m_pos;
+    }
+    std::uint8_t byte() {
+        if (m_pos >= m_data.size()) throw InflateError("the compressed data ends early (truncated stream)");
+        return static_cast<std::uint8_t>(m_data[m_pos++]);
+    }
+    std::size_t position() const { return m_pos; }
+
+private:
+    std::string_view m_data;
+    std::size_t m_pos = 0;
+    int m_bit = 0;
+};
+
+/// A canonical Huffman code: how many codes of each length, and the symbols in code order.
+struct Huffman {
+    std::array<std::uint16_t, kMaxBits + 1> count{};
+    std::vector<std::uint16_t> symbol;
+
+    /// Builds the code from each symbol's length (0: unused). Over-subscribed sets are an
+    /// error; incomplete ones are allowed (RFC 1951 permits a single distance code).
+    Huffman(const std::uint8_t* lengths, int n, const char* what) : symbol(static_cast<std::size_t>(n)) {
+        for (int s = 0; s < n; ++s) ++count[lengths[s]];
+        int left = 1;
+        for (int len = 1; len <= kMaxBits; ++len) {
+            left = left * 2 - count[len];
+            if (left < 0) throw InflateError(std::string("invalid ") + what + " code (over-subscribed lengths)");
+        }
+        std::array<std::uint16_t, kMaxBits + 2> offset{};
+        for (int len = 1; len <= kMaxBits; ++len) offset[len + 1] = offset[len] + count[len];
+        for (int s = 0; s < n; ++s)
+            if (lengths[s] != 0) symbol[offset[lengths[s]]++] = static_cast<std::uint16_t>(s);
+    }
+
+    int decode(BitReader& in) const {
+        int code = 0, first = 0, index = 0;
+        for (int len = 1; len <= kMaxBits; ++len) {
+            code |= static_cast<int>(in.bit());
+            const int c = count[len];
+            if (code - c < first) return symbol[static_cast<std::size_t>(index + (code - first))];
+            index += c, first += c;
+            first <<= 1, code <<= 1;
+        }
+        throw InflateError("invalid Huffman code in the compressed data");
+    }
+};
+
+constexpr std::uint16_t kLengthBase[29] = {3,  4,  5,  6,  7,  8,  9,  10, 11,  13,  15,  17,  19,  23, 27,
+                                           31, 35, 43, 51, 59, 67, 83, 99, 115, 131, 163, 195, 227, 258};
+constexpr std::uint8_t kLengthExtra[29] = {0, 0, 0, 0, 0, 0, 0, 0, 1, 1, 1, 1, 2, 2, 2,
+                                           2, 3, 3, 3, 3, 4, 4, 4, 4, 5, 5, 5, 5, 0};
+constexpr std::uint16_t kDistBase[30] = {1,   2,   3,   4,   5,   7,    9,    13,   17,   25,   33,   49,   65,    97,    129,
+                                         193, 257, 385, 513, 769, 1025, 1537, 2049, 3073, 4097, 6145, 8193, 12289, 16385, 24577};
+constexpr std::uint8_t kDistExtra[30] = {0, 0, 0, 0, 1, 1, 2, 2, 3, 3, 4, 4, 5, 5, 6,
+                                         6, 7, 7, 8, 8, 9, 9, 10, 10, 11, 11, 12, 12, 13, 13};
+
+class Inflater {
+public:
+    Inflater(std::string_view data, std::size_t expected) : m_in(data), m_expected(expected) {
+        // DEFLATE expands at most 1032:1, so a small stream cannot reserve much.
+        m_out.reserve(std::min(expected, data.size() * 1032 + 64));
+    }
+
+    std::vector<std::uint8_t> run() {
+        bool last = false;
+        while (!last) {
+            last = m_in.bit() != 0;
+            switch (m_in.bits(2)) {
+                case 0: stored(); break;
+                case 1: fixed(); break;
+                case 2: dynamic(); break;
+                default: throw InflateError("invalid block type 3 in the compressed data");
+            }
+        }
+        return std::move(m_out);
+    }
+    std::size_t consumed() {
+        m_in.align();
+        return m_in.position();
+    }
+
+private:
+    BitReader m_in;
+    std::size_t m_expected;
+    std::vector<std::uint8_t> m_out;
+
+    void put(std::uint8_t b) {
+        if (m_out.size() >= m_expected) throw InflateError("the decompressed data is longer than the image needs");
+        m_out.push_back(b);
+    }
+
+    void stored() {
+        m_in.align();
+        const unsigned len = m_in.byte() | m_in.byte() << 8;
+        const unsigned nlen = m_in.byte() | m_in.byte() << 8;
+        if ((len ^ 0xffffu) != nlen) throw InflateError("a stored block's length does not match its complement");
+        for (unsigned i = 0; i < len; ++i) put(m_in.byte());
+    }
+
+    void fixed() {
+        static const auto codes = [] {
+            std::array<std::uint8_t, 288 + 30> l{};
+            for (int s = 0; s < 144; ++s) l[s] = 8;
+            for (int s = 144; s < 256; ++s) l[s] = 9;
+            for (int s = 256; s < 280; ++s) l[s] = 7;
+            for (int s = 280; s < 288; ++s) l[s] = 8;
+            for (int s = 0; s < 30; ++s) l[288 + s] = 5;
+            return std::pair<Huffman, Huffman>{Huffman(l.data(), 288, "literal/length"),
+                                               Huffman(l.data() + 288, 30, "distance")};
+        }();
+        codes_block(codes.first, codes.second);
+    }
+
+    void dynamic() {
+        const int nlen = static_cast<int>(m_in.bits(5)) + 257, ndist = static_cast<int>(m_in.bits(5)) + 1;
+        const int ncode = static_cast<int>(m_in.bits(4)) + 4;
+        if (nlen > 286 || ndist > 30) throw InflateError("a dynamic block declares too many codes");
+        static constexpr int kOrder[19] = {16, 17, 18, 0, 8, 7, 9, 6, 10, 5, 11, 4, 12, 3, 13, 2, 14, 1, 15};
+        std::uint8_t lengths[286 + 30] = {};
+        for (int i = 0; i < ncode; ++i) lengths[kOrder[i]] = static_cast<std::uint8_t>(m_in.bits(3));
+        const Huffman lencode(lengths, 19, "code-length");
+        int index = 0;
+        while (index < nlen + ndist) {
+            int sym = lencode.decode(m_in);
+            if (sym < 16) {
+                lengths[index++] = static_cast<std::uint8_t>(sym);
+                continue;
+            }
+            std::uint8_t len = 0;
+            int repeat;
+            if (sym == 16) {
+                if (index == 0) throw InflateError("a length repeat has no previous length");
+                len = lengths[index - 1];
+                repeat = 3 + static_cast<int>(m_in.bits(2));
+            } else if (sym == 17) {
+                repeat = 3 + static_cast<int>(m_in.bits(3));
+            } else {
+                repeat = 11 + static_cast<int>(m_in.bits(7));
+            }
+            if (index + repeat > nlen + ndist) throw InflateError("code lengths run past their count");
+            while (repeat--) lengths[index++] = len;
+        }
+        if (lengths[256] == 0) throw InflateError("a dynamic block has no end-of-block code");
+        codes_block(Huffman(lengths, nlen, "literal/length"), Huffman(lengths + nlen, ndist, "distance"));
+    }
+
+    void codes_block(const Huffman& lencode, const Huffman& distcode) {
+        for (;;) {
+            int sym = lencode.decode(m_in);
+            if (sym < 256) {
+                put(static_cast<std::uint8_t>(sym));
+                continue;
+            }
+            if (sym == 256) return;
+            sym -= 257;
+            if (sym >= 29) throw InflateError("invalid length symbol in the compressed data");
+            const unsigned len = kLengthBase[sym] + m_in.bits(kLengthExtra[sym]);
+            const int dsym = distcode.decode(m_in);
+            if (dsym >= 30) throw InflateError("invalid distance symbol in the compressed data");
+            const std::size_t dist = kDistBase[dsym] + m_in.bits(kDistExtra[dsym]);
+            if (dist > m_out.size()) throw InflateError("a back-reference points before the start of the data");
+            for (unsigned i = 0; i < len; ++i) put(m_out[m_out.size() - dist]);
+        }
+    }
+};
+
+}  // namespace
+
+std::vector<std::uint8_t> zlib_decompress(std::string_view stream, std::size_t expected_size) {
+    if (stream.size() < 6) throw InflateError("the zlib stream is too short");
+    const unsigned cmf = static_cast<unsigned char>(stream[0]), flg = static_cast<unsigned char>(stream[1]);
+    if ((cmf & 0x0f) != 8 || (cmf >> 4) > 7) throw InflateError("the zlib header does not announce DEFLATE");
+    if ((cmf << 8 | flg) % 31 != 0) throw InflateError("the zlib header check bits are wrong");
+    if (flg & 0x20) throw InflateError("the zlib stream asks for a preset dictionary, which PNG forbids");
+    Inflater inflater(stream.substr(2), expected_size);
+    std::vector<std::uint8_t> out = inflater.run();
+    if (out.size() != expected_size)
+        throw InflateError("the decompressed data has " + std::to_string(out.size()) + " bytes; expected " +
+                           std::to_string(expected_size));
+    const std::size_t end = 2 + inflater.consumed();
+    if (end + 4 > stream.size()) throw InflateError("the zlib stream has no Adler-32 checksum (truncated)");
+    std::uint32_t stored = 0;
+    for (int i = 0; i < 4; ++i) stored = stored << 8 | static_cast<unsigned char>(stream[end + i]);
+    const std::uint32_t computed =
+        adler32(std::string_view(reinterpret_cast<const char*>(out.data()), out.size()));
+    if (stored != computed) throw InflateError("the Adler-32 checksum does not match the decompressed data");
+    return out;
+}
+
+}  // namespace spt

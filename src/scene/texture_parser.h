@@ -1,0 +1,58 @@
+// The scene file's "textures" (name → definition) and the values that name one,
+// {"texture": NAME} (with "scale" for emission); see scenes/README.md. A definition is built
+// when a value first names it, once per use (reflectance, emission or number), since the
+// use decides how its values become spectra.
+#pragma once
+#include <map>
+#include <optional>
+#include <string>
+#include <tuple>
+
+#include "scene/json_checker.h"
+#include "scene/scene.h"
+#include "scene/scene_loader.h"
+#include "scene/spectrum_parser.h"
+
+namespace spt {
+
+enum class TextureUse { reflectance, emission, number };
+
+class TextureParser : public JsonChecker {
+public:
+    TextureParser(const std::string& origin, SpectralResolution resolution, const SpectrumParser& spectra,
+                  const RelativeFileReader& read_relative, Scene& scene)
+        : JsonChecker(origin), m_resolution(resolution), m_spectra(spectra), m_read_relative(read_relative),
+          m_scene(scene) {}
+
+    /// Reads the top-level "textures" object (checked when a value names a texture).
+    void definitions(const JsonValue& v);
+
+    /// True when `v` names a texture ({"texture": ...}) rather than giving a value.
+    static bool is_binding(const JsonValue& v) { return v.is_object() && v.find("texture"); }
+
+    /// The index in Scene::textures of the texture `v` names, built for `use`; `what` names
+    /// the value in messages. Throws LocatedError.
+    int bind(const JsonValue& v, const std::string& what, TextureUse use);
+
+    /// Each bin's largest value over the texture's entries, as a spectrum: what a textured
+    /// parameter holds at load time (see Material::textures).
+    Spectrum envelope(int texture) const;
+    /// The largest number a float texture gives.
+    float max_number(int texture) const;
+
+private:
+    SpectralResolution m_resolution;
+    const SpectrumParser& m_spectra;
+    const RelativeFileReader& m_read_relative;
+    Scene& m_scene;
+    const JsonValue* m_definitions = nullptr;
+    std::map<std::tuple<std::string, TextureUse, double>, int> m_built;
+
+    int bins(TextureUse use) const;
+    Texture build(const std::string& name, const JsonValue& def, TextureUse use, double scale) const;
+    /// The value table entry of a procedural texture's value `v` (a spectrum or a number).
+    void add_value(Texture& t, const JsonValue& v, const std::string& what, TextureUse use, double scale) const;
+    void image(Texture& t, const JsonValue& def, const std::string& what, TextureUse use, double scale) const;
+};
+
+}  // namespace spt
