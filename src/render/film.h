@@ -28,7 +28,7 @@ public:
     Film(int width, int height, const Observer& observer = Cie1931::get());
 
     /// Adds one path's radiance at the path's wavelengths to pixel (x, y).
-    void add_sample(int x, int y, const SampledSpectrum& L, const SampledWavelengths& lambda) {
+    [[gnu::always_inline]] void add_sample(int x, int y, const SampledSpectrum& L, const SampledWavelengths& lambda) {
         const std::size_t i = index(x, y);
         ++m_count[i];
         // One test of all four lanes: v − v is 0 for finite v and NaN for ±inf and NaN.

@@ -136,7 +136,7 @@ struct Scene {
         return environment_index >= 0 ? &std::get<EnvironmentLight>(lights[environment_index]) : nullptr;
     }
     /// The emitted radiance of the light at `hit`'s shape (zero if it has none).
-    SampledSpectrum emitted(const Hit& hit, const SampledWavelengths& lambda) const {
+    [[gnu::always_inline]] SampledSpectrum emitted(const Hit& hit, const SampledWavelengths& lambda) const {
         return hit.light >= 0 ? light_emitted(lights[hit.light], lambda) : SampledSpectrum(0.f);
     }
     /// Surface coordinates of a hit (see each shape's uv()).
