@@ -26,17 +26,8 @@ using test::small_settings;
 constexpr double kZ = 5.0;
 constexpr double kPiD = std::numbers::pi;
 
-Scene load(const std::string& text) {
-    return load_scene_text(text, "dof.json", "dof", SpectralResolution{SpectralResolution::kExact}, {});
-}
-std::string error_of(const std::string& text) {
-    try {
-        load(text);
-    } catch (const LocatedError& e) {
-        return e.what();
-    }
-    return "(no error)";
-}
+Scene load(const std::string& text) { return test::load_exact_scene(text, "dof"); }
+std::string error_of(const std::string& text) { return test::scene_error(text, "dof"); }
 
 /// <r²> over a regular N-gon of circumradius R (N = 0: the disc): R²(1 + 2cos²(π/N))/6,
 /// R²/2 for the disc.

@@ -28,17 +28,8 @@ using test::small_settings;
 constexpr double kZ = 5.0;
 constexpr float kPi_f = std::numbers::pi_v<float>;
 
-Scene load(const std::string& text) {
-    return load_scene_text(text, "motion.json", "motion", SpectralResolution{SpectralResolution::kExact}, {});
-}
-std::string error_of(const std::string& text) {
-    try {
-        load(text);
-    } catch (const LocatedError& e) {
-        return e.what();
-    }
-    return "(no error)";
-}
+Scene load(const std::string& text) { return test::load_exact_scene(text, "motion"); }
+std::string error_of(const std::string& text) { return test::scene_error(text, "motion"); }
 void expect_near(const Vec3& a, const Vec3& b, float tolerance, const std::string& what) {
     EXPECT_NEAR(a.x, b.x, tolerance) << what;
     EXPECT_NEAR(a.y, b.y, tolerance) << what;
@@ -153,9 +144,10 @@ TEST(MotionBlur, TranslatingSphereCoversEachPixelForTheAnalyticTime) {
     EXPECT_GT(partial, 40);  // the sphere's streak crosses many pixels partly
 }
 
-/// A cornell-like box whose glass sphere and point light may move.
+/// A cornell-like box whose grey sphere and point light may move.
 std::string box_scene(const std::string& camera_extra, const std::string& sphere_extra,
-                      const std::string& light_extra = "") {
+                      const std::string& light_extra = "", const std::string& sphere_center = "[0, -0.5, 0]",
+                      const std::string& light_position = "[0.5, 0.5, 0.5]") {
     return R"({"camera": {"position": [0, 0, 3.5], "look_at": [0, 0, 0], "vfov_degrees": 40)" + camera_extra + R"(},
   "materials": {"grey": {"kd": 0.7}, "red": {"kd": {"type": "rgb", "value": [0.7, 0.1, 0.1]}},
                 "glass": {"kt": 1, "ior": 1.5}, "lamp": {"emission": 3}},
@@ -163,9 +155,9 @@ std::string box_scene(const std::string& camera_extra, const std::string& sphere
     {"type": "plane", "normal": [0, 1, 0], "point": [0, -1, 0], "material": "grey"},
     {"type": "plane", "normal": [0, 0, 1], "point": [0, 0, -1], "material": "red"},
     {"type": "quad", "origin": [-0.3, 0.99, -0.3], "edge1": [0.6, 0, 0], "edge2": [0, 0, 0.6], "material": "lamp"},
-    {"type": "sphere", "center": [0, -0.5, 0], "radius": 0.4, "material": "grey")" + sphere_extra + R"(}
+    {"type": "sphere", "center": )" + sphere_center + R"(, "radius": 0.4, "material": "grey")" + sphere_extra + R"(}
   ],
-  "lights": [{"type": "point", "position": [0.5, 0.5, 0.5], "intensity": 1)" + light_extra + R"(}]})";
+  "lights": [{"type": "point", "position": )" + light_position + R"(, "intensity": 1)" + light_extra + R"(}]})";
 }
 const char* kMovingSphere = R"(, "motion": {"keyframes": [{"time": 0}, {"time": 1, "translate": [0.6, 0.3, 0],
     "rotate": {"axis": [0, 0, 1], "degrees": 40}}]})";
@@ -194,16 +186,7 @@ TEST(MotionBlur, AnInstantOfTheMotionIsTheStaticSceneThere) {
     const Scene instant = load(box_scene(", \"shutter\": [0.5, 0.5]", kMovingSphere, kMovingLight));
     EXPECT_FALSE(instant.effects.motion_blur);
     ASSERT_EQ(instant.moving_shapes.size(), 1u);
-    const Scene placed = load(R"({"camera": {"position": [0, 0, 3.5], "look_at": [0, 0, 0], "vfov_degrees": 40},
-  "materials": {"grey": {"kd": 0.7}, "red": {"kd": {"type": "rgb", "value": [0.7, 0.1, 0.1]}},
-                "glass": {"kt": 1, "ior": 1.5}, "lamp": {"emission": 3}},
-  "shapes": [
-    {"type": "plane", "normal": [0, 1, 0], "point": [0, -1, 0], "material": "grey"},
-    {"type": "plane", "normal": [0, 0, 1], "point": [0, 0, -1], "material": "red"},
-    {"type": "quad", "origin": [-0.3, 0.99, -0.3], "edge1": [0.6, 0, 0], "edge2": [0, 0, 0.6], "material": "lamp"},
-    {"type": "sphere", "center": [0.3, -0.35, 0], "radius": 0.4, "material": "grey"}
-  ],
-  "lights": [{"type": "point", "position": [0, 0.5, 0.5], "intensity": 1}]})");
+    const Scene placed = load(box_scene("", "", "", "[0.3, -0.35, 0]", "[0, 0.5, 0.5]"));
     const auto a = render_film(instant, small_settings(32, 32, 256, 7));
     const auto b = render_film(placed, small_settings(32, 32, 256, 8));
     const Comparison c = compare(*a, *b, [](int, int) { return true; });

@@ -22,6 +22,20 @@
 
 namespace spt::test {
 
+/// A scene from JSON text with exact spectra, as if read from the file `name`.json.
+inline Scene load_exact_scene(const std::string& text, const std::string& name) {
+    return load_scene_text(text, name + ".json", name, SpectralResolution{SpectralResolution::kExact}, {});
+}
+/// The loader's message for the scene text, or "(no error)".
+inline std::string scene_error(const std::string& text, const std::string& name) {
+    try {
+        load_exact_scene(text, name);
+    } catch (const LocatedError& e) {
+        return e.what();
+    }
+    return "(no error)";
+}
+
 inline Spectrum constant_spectrum(double value, SpectralResolution res = {}) {
     return Spectrum(SpectrumSource::constant(value), res);
 }
