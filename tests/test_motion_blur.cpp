@@ -253,14 +253,7 @@ TEST(MotionBlur, MovingMeshHitsWhereTheMovedMeshIs) {
 TEST(MotionBlur, BdptAgreesWithThePathTracer) {
     const Scene scene = load(box_scene("", kMovingSphere, kMovingLight));
     ASSERT_TRUE(scene.effects.motion_blur);
-    const auto path = render_film(scene, small_settings(24, 24, 1024, 51));
-    RenderSettings rs = small_settings(24, 24, 512, 52);
-    rs.integrator.kind = IntegratorKind::bdpt;
-    const auto bdpt = render_film(scene, rs);
-    EXPECT_EQ(bdpt->rejected_samples(), 0u);
-    const Comparison c = compare(*path, *bdpt, [](int, int) { return true; });
-    EXPECT_LE(c.max_z, kZ) << describe(c);
-    EXPECT_NEAR(c.mean_a, c.mean_b, kZ * c.se) << describe(c);
+    test::expect_bdpt_matches_path(scene, 51);
 }
 
 /// The time comes from each sample's own stream: the same bits for any thread count, with
@@ -320,6 +313,17 @@ TEST(MotionBlur, SceneKeys) {
       "shapes": [{"type": "sphere", "center": [0, 0, 0], "radius": 1, "emission": 2,
                   "motion": {"keyframes": [{"time": 0}, {"time": 1}]}}]})");
     EXPECT_NE(emitter.find("emits light and moves"), std::string::npos) << emitter;
+    // Media and motion blur together are refused (the volumetric path tracer has no time).
+    std::string media_error = "(no error)";
+    try {
+        load(R"({"camera": {"position": [0, 0, 3], "look_at": [0, 0, 0]}, "materials": {"g": {"kd": 0.5}},
+          "media": {"fog": {"type": "homogeneous", "sigma_a": 0.1, "sigma_s": 0.1}}, "medium": "fog",
+          "shapes": [{"type": "sphere", "center": [0, 0, 0], "radius": 1, "material": "g",
+                      "motion": {"keyframes": [{"time": 0}, {"time": 1, "translate": [1, 0, 0]}]}}]})");
+    } catch (const std::exception& e) {
+        media_error = e.what();
+    }
+    EXPECT_NE(media_error.find("participating media and motion blur"), std::string::npos) << media_error;
 }
 
 }  // namespace

@@ -299,4 +299,19 @@ inline std::string describe(const Comparison& c) {
            std::to_string(c.mean_b) + " ± " + std::to_string(c.se) + " over " + std::to_string(c.pixels) + " pixels";
 }
 
+/// bdpt against the path tracer on `scene`, independent seeds (path at twice bdpt's spp):
+/// every pixel within 5σ and the image means within 5 standard errors. Returns the path film
+/// (for further comparisons).
+inline std::unique_ptr<Film> expect_bdpt_matches_path(const Scene& scene, std::uint64_t seed) {
+    auto path = render_film(scene, small_settings(24, 24, 1024, seed));
+    RenderSettings rs = small_settings(24, 24, 512, seed + 1);
+    rs.integrator.kind = IntegratorKind::bdpt;
+    const auto bdpt = render_film(scene, rs);
+    EXPECT_EQ(bdpt->rejected_samples(), 0u);
+    const Comparison c = compare(*path, *bdpt, [](int, int) { return true; });
+    EXPECT_LE(c.max_z, 5.0) << describe(c);
+    EXPECT_NEAR(c.mean_a, c.mean_b, 5.0 * c.se) << describe(c);
+    return path;
+}
+
 }  // namespace spt::test
