@@ -412,37 +412,26 @@ private:
 
     // ---------------------------- Shapes ----------------------------
 
-    /// Affine map: scale, then rotate about an axis through the origin, then translate.
-    struct Transform {
-        double m[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
-        double t[3] = {0, 0, 0};
-        Vec3 apply(const Vec3& p) const {
-            double out[3];
-            for (int i = 0; i < 3; ++i) out[i] = m[i][0] * p.x + m[i][1] * p.y + m[i][2] * p.z + t[i];
-            return {static_cast<float>(out[0]), static_cast<float>(out[1]), static_cast<float>(out[2])};
-        }
-        /// A normal under the map: the inverse transpose of m, as its cofactor matrix times the
-        /// sign of the determinant (a mirroring scale turns the surface inside out), normalised;
-        /// zero for a zero normal.
-        Vec3 apply_normal(const Vec3& n) const {
-            const double c[3][3] = {{m[1][1] * m[2][2] - m[1][2] * m[2][1], m[1][2] * m[2][0] - m[1][0] * m[2][2],
-                                     m[1][0] * m[2][1] - m[1][1] * m[2][0]},
-                                    {m[0][2] * m[2][1] - m[0][1] * m[2][2], m[0][0] * m[2][2] - m[0][2] * m[2][0],
-                                     m[0][1] * m[2][0] - m[0][0] * m[2][1]},
-                                    {m[0][1] * m[1][2] - m[0][2] * m[1][1], m[0][2] * m[1][0] - m[0][0] * m[1][2],
-                                     m[0][0] * m[1][1] - m[0][1] * m[1][0]}};
-            const double det = m[0][0] * c[0][0] + m[0][1] * c[0][1] + m[0][2] * c[0][2];
-            const double sign = det < 0 ? -1.0 : 1.0;
-            double out[3];
-            for (int i = 0; i < 3; ++i) out[i] = sign * (c[i][0] * n.x + c[i][1] * n.y + c[i][2] * n.z);
-            const double len = std::sqrt(out[0] * out[0] + out[1] * out[1] + out[2] * out[2]);
-            if (!(len > 0.0) || !std::isfinite(len)) return {};
-            return {static_cast<float>(out[0] / len), static_cast<float>(out[1] / len), static_cast<float>(out[2] / len)};
-        }
-    };
+    /// A point under a transform (AffineMap, in double), rounded to float once.
+    static Vec3 apply(const AffineMap& map, const Vec3& p) {
+        const DVec3 q = map.point(DVec3(p.x, p.y, p.z));
+        return {static_cast<float>(q.x), static_cast<float>(q.y), static_cast<float>(q.z)};
+    }
+    /// A normal under a transform: the inverse transpose of A, as its cofactor matrix times the
+    /// sign of the determinant (a mirroring scale turns the surface inside out), normalised;
+    /// zero for a zero normal.
+    static Vec3 apply_normal(const AffineMap& map, const Vec3& n) {
+        const double sign = map.determinant() < 0 ? -1.0 : 1.0;
+        const DVec3 c = map.cofactor_vector(DVec3(n.x, n.y, n.z));
+        const double out[3] = {sign * c.x, sign * c.y, sign * c.z};
+        const double len = std::sqrt(out[0] * out[0] + out[1] * out[1] + out[2] * out[2]);
+        if (!(len > 0.0) || !std::isfinite(len)) return {};
+        return {static_cast<float>(out[0] / len), static_cast<float>(out[1] / len), static_cast<float>(out[2] / len)};
+    }
 
-    Transform transform(const JsonValue* v) const {
-        Transform tr;
+    /// Scale, then rotate about an axis through the origin, then translate.
+    AffineMap transform(const JsonValue* v) const {
+        AffineMap tr;
         if (!v) return tr;
         object(*v, "transform");
         check_keys(*v, "transform", {"scale", "rotate", "translate"});
@@ -473,10 +462,10 @@ private:
             std::copy(&rot[0][0], &rot[0][0] + 9, &r[0][0]);
         }
         for (int i = 0; i < 3; ++i)
-            for (int j = 0; j < 3; ++j) tr.m[i][j] = r[i][j] * s[j];
+            for (int j = 0; j < 3; ++j) tr.a[i][j] = r[i][j] * s[j];
         if (const JsonValue* tv = v->find("translate")) {
             const Vec3 t = point(*tv, "transform translate");
-            tr.t[0] = t.x, tr.t[1] = t.y, tr.t[2] = t.z;
+            tr.a[0][3] = t.x, tr.a[1][3] = t.y, tr.a[2][3] = t.z;
         }
         return tr;
     }
@@ -625,8 +614,8 @@ private:
             const Vec3 o = point(required(v, "origin", what), what + " origin");
             const Vec3 e1 = direction(required(v, "edge1", what), what + " edge1");
             const Vec3 e2 = direction(required(v, "edge2", what), what + " edge2");
-            const Transform tr = transform(v.find("transform"));
-            const Vec3 a = tr.apply(o), b = tr.apply(o + e1), c = tr.apply(o + e1 + e2), d = tr.apply(o + e2);
+            const AffineMap tr = transform(v.find("transform"));
+            const Vec3 a = apply(tr, o), b = apply(tr, o + e1), c = apply(tr, o + e1 + e2), d = apply(tr, o + e2);
             const Surface m = shape_surface(
                 v, what, [&](const Spectrum& le) { return m_scene.add_quad_emitter(a, b - a, d - a, le); });
             add_triangle(a, b, c, m, v.pos(), what);
@@ -664,7 +653,7 @@ private:
                 fail(instances->pos(), what + " has both \"transform\" and \"instances\"; expected one of them (each instance is a transform)");
             if (instances && (!instances->is_array() || instances->items().empty()))
                 fail(instances->pos(), what + " instances is not a non-empty array; expected [TRANSFORM, ...] (objects like \"transform\")");
-            const Transform tr = transform(v.find("transform"));
+            const AffineMap tr = transform(v.find("transform"));
             const Surface m = shape_surface(v, what, ShapeKind::triangle);
             if (instances && m.light >= 0)
                 fail(instances->pos(), what + " emits light and has instances; expected a non-emitting material (an emitter is one mesh per placement)");
@@ -680,11 +669,11 @@ private:
             for (const Vec3& x : mesh.positions) {
                 if (std::fabs(x.x) > kMaxSceneCoordinate || std::fabs(x.y) > kMaxSceneCoordinate || std::fabs(x.z) > kMaxSceneCoordinate)
                     fail(fv.pos(), what + ": a vertex of " + quote_text(display) + " has a coordinate beyond 1e15; expected smaller coordinates");
-                p.push_back(tr.apply(x));
+                p.push_back(apply(tr, x));
             }
             std::vector<Vec3> normals;
             normals.reserve(mesh.normals.size());
-            for (const Vec3& n : mesh.normals) normals.push_back(tr.apply_normal(n));
+            for (const Vec3& n : mesh.normals) normals.push_back(apply_normal(tr, n));
             std::size_t added = 0;
             for (const auto& t : mesh.triangles) {
                 Triangle tri{p[t[0]], p[t[1]], p[t[2]], m.material};
@@ -716,15 +705,8 @@ private:
             if (instances) {
                 const int mesh_index = static_cast<int>(m_scene.instanced_meshes.size());
                 m_scene.instanced_meshes.push_back({std::move(object_triangles), {}, {}});
-                for (const JsonValue& item : instances->items()) {
-                    const Transform placement = transform(&item);
-                    AffineMap map;
-                    for (int i = 0; i < 3; ++i) {
-                        for (int j = 0; j < 3; ++j) map.a[i][j] = placement.m[i][j];
-                        map.a[i][3] = placement.t[i];
-                    }
-                    m_scene.instances.emplace_back(mesh_index, map);
-                }
+                for (const JsonValue& item : instances->items())
+                    m_scene.instances.emplace_back(mesh_index, transform(&item));
             }
         } else if (type == "disk") {
             check_keys(v, what, {"type", "center", "normal", "radius", "material", "emission", "interior", "exterior"});
