@@ -33,7 +33,7 @@ th, td { border: 1px solid #999; padding: 2px 4px; }
 code { font-size: 8.5pt; }
 """
 CODE = re.compile(r"(```.*?```|`[^`\n]*`)", re.S)
-DISPLAY = re.compile(r"\$\$(.+?)\$\$", re.S)
+DISPLAY = re.compile(r"^([ \t]*)\$\$(.+?)\$\$", re.S | re.M)
 INLINE = re.compile(r"(?<![\\$])\$(?!\$)([^$\n]+?)(?<!\\)\$(?!\$)")
 
 
@@ -54,8 +54,9 @@ def formula_image(tex: str, folder: Path, size: float) -> tuple[str, float, floa
 
 def replace_maths(text: str, folder: Path, prefix: str) -> str:
     def display(m: re.Match) -> str:
-        name, w, h = formula_image(" ".join(m.group(1).split()), folder, 12)
-        return f'\n<p align="center"><img src="{prefix}/{name}" width="{w:.0f}" height="{h:.0f}"></p>\n'
+        # Kept at the line's indentation, so a formula inside a list item stays in the item.
+        name, w, h = formula_image(" ".join(m.group(2).split()), folder, 12)
+        return f'{m.group(1)}<img src="{prefix}/{name}" width="{w:.0f}" height="{h:.0f}">'
 
     def inline(m: re.Match) -> str:
         name, w, h = formula_image(m.group(1), folder, 10)
@@ -74,7 +75,7 @@ def main(src: str, dst: str) -> int:
     folder.mkdir(exist_ok=True)
     try:
         text = replace_maths(src_path.read_text(), folder, folder.name)
-        pdf = MarkdownPdf(toc_level=2, mode="commonmark")
+        pdf = MarkdownPdf(toc_level=2, mode="commonmark", optimize=True)
         pdf.meta["title"] = text.splitlines()[0].lstrip("# ").strip()
         pdf.add_section(Section(text, root=str(root)), user_css=CSS)
         tmp = dst_path.with_suffix(".pdf.tmp")
