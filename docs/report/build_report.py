@@ -410,7 +410,7 @@ def extensions(r: Renderer, p: dict, figs: Path, refs: dict) -> dict:
         r.threads = saved
     out["threads"] = {"seconds_1": t[1].seconds, "seconds_2": t[2].seconds,
                       "speedup": t[1].seconds / t[2].seconds,
-                      "identical": bool(np.array_equal(t[1].image, t[2].image))}
+                      "identical": "yes" if np.array_equal(t[1].image, t[2].image) else "no"}
 
     # Hero wavelengths: 1 against 4 wavelengths per path, equal spp (cornell's reference).
     ref, noise = refs["cornell"]
