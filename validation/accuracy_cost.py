@@ -784,6 +784,18 @@ def reading(results: list[SceneResult], args) -> list[str]:
 # Outputs
 
 
+def summary(results: list[SceneResult]) -> dict:
+    """Every point's numbers as plain data (accuracy_cost.json, read by docs/report/build_report.py)."""
+    def num(x: float) -> float | None:
+        return x if math.isfinite(x) else None
+    return {"scenes": {r.scene: {
+        "size": list(r.size),
+        "reference": r.ref.note if r.ref is not None else "colour-science (no render)",
+        "points": [{"knob": p.knob, "value": p.value, "spp": p.config.spp, "integrator": p.config.integrator,
+                    "time": num(p.time), "error": num(p.error), "raw": num(p.raw),
+                    "efficiency": num(efficiency(r, p))} for p in r.points]} for r in results}}
+
+
 def table(results: list[SceneResult]) -> list[str]:
     lines = ["| scene | knob | value | spp | time (s) | samples/s | rays/s | error | metric | raw relMSE / noise ΔE | "
              "trimmed relMSE | worst-px share | efficiency (1/s) | load (1 min) |",
@@ -876,7 +888,7 @@ def plot(results: list[SceneResult], args, path: Path, title: str, notes: list[s
 
 def parse_args(argv):
     p = argparse.ArgumentParser(description="Error against render time of the renderer's knobs "
-                                            "(writes accuracy_cost.md and accuracy_cost.png).")
+                                            "(writes accuracy_cost.md, .png and .json).")
     p.add_argument("--program", type=Path, default=None,
                    help="the renderer (default $SPT_PATHTRACER, else build/pathtracer)")
     p.add_argument("--scenes", nargs="+", default=list(ALL_SCENES),
@@ -1105,6 +1117,7 @@ def main(argv=None) -> int:
         args.out.mkdir(parents=True, exist_ok=True)
         md_path, png_path = args.out / "accuracy_cost.md", args.out / "accuracy_cost.png"
         md_path.write_text("\n".join(md))
+        (args.out / "accuracy_cost.json").write_text(json.dumps(summary(results), indent=1) + "\n")
         title = (f"Error vs render time — {version} ({sha[:8]}), {os.cpu_count()} cores {bm.cpu_model()}, "
                  f"--threads {args.threads}, {started_at.date().isoformat()}, median load "
                  f"{statistics.median(loads) if loads else math.nan:.1f}")
