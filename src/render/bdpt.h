@@ -70,8 +70,10 @@ struct MergeContext {
         Vec3 wo;               ///< towards the previous vertex of its subpath
         SampledSpectrum beta;  ///< light subpath throughput arriving here
         /// The light side of the MIS sum of a merge here, per unit of the camera's area
-        /// density of this point (Bdpt::merge_weight).
-        float light_sum = 0.f;
+        /// density of this point: light_connection + light_per_density·p, p the solid-angle
+        /// density with which the merge point's BSDF samples wo from the camera's direction
+        /// (known only per merge: Bdpt::merge).
+        float light_connection = 0.f, light_per_density = 0.f;
         int s = 0;                ///< vertices of its light subpath up to and including it
         bool terminated = false;  ///< a dispersive refraction happened before it
     };
@@ -83,9 +85,8 @@ struct MergeContext {
 };
 
 /// The photon of light subpath vertex path[s − 1] (s ≥ 3, a mergeable surface vertex whose
-/// BdptVertex::mis_sum values are filled) for a pass with merging density `eta` and hero
-/// wavelength `hero_nm`.
-MergeContext::Photon make_photon(const Scene& scene, const BdptVertex* path, int s, float eta, float hero_nm);
+/// BdptVertex::mis_sum values are filled) for a pass with merging density `eta`.
+MergeContext::Photon make_photon(const Scene& scene, const BdptVertex* path, int s, float eta);
 
 /// Vertex merging, first phase: traces one light subpath at `lambda` (the pass's wavelengths),
 /// appends its vertices to `out` and its light-to-camera (t = 1) contributions to `splats`,

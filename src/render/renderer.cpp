@@ -185,7 +185,7 @@ public:
     }
 
     /// After the light phase: the photon grid of the pass.
-    void build_grid() { m_pass.build(m_batches, m_ctx.scene, m_lambda, m_radius, m_eta); }
+    void build_grid() { m_pass.build(m_batches, m_ctx.scene, m_radius, m_eta); }
 
     /// Camera phase of a tile: each pixel's sample (Rng and jitter as the other integrators,
     /// the pass's wavelengths instead of its own), connected to light subpath y·width + x.
