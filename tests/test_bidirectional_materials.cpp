@@ -9,14 +9,16 @@
 // 5 standard errors). vcm: means over the pixels that see the sphere, the vcm error from the
 // spread of per-pass means (vcm_passes.h: pixels of a pass are correlated), the path
 // tracer's from its pixels (independent), |difference| ≤ 5·√(σ_path² + σ_vcm²). The merge
-// radius is 0.01, 1 % of the sphere's radius: the kernel's bias on a mean over the sphere
-// (curvature, the blur at the silhouette) is of order (r/R)² and r/(sphere's pixels' extent),
-// below the test's resolution.
+// radius is 0.05, a tenth of the sphere's radius: large enough that merges carry a good
+// share of the light (with wrong weights they then bias visibly), small enough that the
+// kernel's bias on a mean over the sphere (curvature: of order (r/R)² = 1 % of the merged
+// part) stays below the test's resolution.
 //
 // Planted bug (the state before this test): merge() weighing with the merge point's BSDF
 // density taken from the normal instead of the other side's direction (exact only for a
-// Lambertian lobe) and skipping photons on the far side of transmitting surfaces: rough
-// SF11 glass ... (see the report lines; numbers in the commit message).
+// Lambertian lobe) and skipping photons on the far side of transmitting surfaces. On this
+// scene with rough SF11 glass, 24x24, 256 passes at r = 0.05, vcm gave 0.2196 for the
+// path tracer's 0.1658 (G over the sphere, +32 %), as on the built-in frosted-glass scene.
 #include <gtest/gtest.h>
 
 #include <cctype>
@@ -119,7 +121,7 @@ class BidirectionalMaterials : public ::testing::TestWithParam<MaterialCase> {};
 TEST_P(BidirectionalMaterials, BdptAndVcmAgreeWithThePathTracer) {
     const MaterialCase& c = GetParam();
     const Scene scene = test::load_exact_scene(sphere_scene(c.json), "sphere");
-    expect_bidirectional_match(scene, c.name, 1, 0.01f, 61);  // material 1: "object"
+    expect_bidirectional_match(scene, c.name, 1, 0.05f, 61);  // material 1: "object"
 }
 
 INSTANTIATE_TEST_SUITE_P(EveryBsdfType, BidirectionalMaterials, ::testing::ValuesIn(kCases),
@@ -143,23 +145,23 @@ TEST(BidirectionalTextures, BuiltinTexturedSceneAgreesWithThePathTracer) {
     expect_bidirectional_match(*scene, "textured", -1, 0.01f, 71);
 }
 
-/// The only lights are textured: a quad (checkerboard, 20 and 1) facing down and a sphere
+/// The only lights are textured: a quad (checkerboard, 20 and 1) above the floor and a sphere
 /// (checkerboard over its (u, v)), over a floor whose kd is a checkerboard too; every light
 /// subpath starts at a textured point and every s = 0 path ends on one.
 TEST(BidirectionalTextures, TexturedEmittersAgreeWithThePathTracer) {
     const Scene scene = test::load_exact_scene(R"({
   "camera": {"position": [0, 1.6, 2.6], "look_at": [0, 0.4, 0], "vfov_degrees": 45},
   "textures": {
-    "glow": {"type": "checkerboard", "even": 20, "odd": 1, "uv_scale": [3, 3]},
-    "ball": {"type": "checkerboard", "even": [6, 4, 2], "odd": 0.5, "uv_scale": [8, 4]},
+    "glow": {"type": "checkerboard", "even": 1, "odd": 0.05, "uv_scale": [3, 3]},
+    "ball": {"type": "checkerboard", "even": [0.9, 0.6, 0.3], "odd": 0.1, "uv_scale": [8, 4]},
     "floor": {"type": "checkerboard", "even": 0.8, "odd": 0.2, "uv_scale": [6, 6]}
   },
   "materials": {"floor": {"kd": {"texture": "floor"}}},
   "shapes": [
     {"type": "quad", "origin": [-2, 0, 2], "edge1": [4, 0, 0], "edge2": [0, 0, -4], "material": "floor"},
     {"type": "quad", "origin": [-0.5, 1.5, -0.8], "edge1": [0, 0, 1], "edge2": [1, 0, 0],
-     "emission": {"texture": "glow"}},
-    {"type": "sphere", "center": [0.6, 0.35, 0.2], "radius": 0.35, "emission": {"texture": "ball"}}
+     "emission": {"texture": "glow", "scale": 20}},
+    {"type": "sphere", "center": [0.6, 0.35, 0.2], "radius": 0.35, "emission": {"texture": "ball", "scale": 6}}
   ]
 })", "glow");
     ASSERT_TRUE(scene.effects.textures);

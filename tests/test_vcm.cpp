@@ -24,8 +24,10 @@
 //     (z = −37); only that test sees it;
 //   - the camera side of a merge's MIS sum dropped (camera_merge_sum without camera_sum):
 //     furnaces 1.0246 and 5.439 (z = +18, +17), cornell-point z = +4.2;
-//   - the light side dropped (make_photon's light_sum = 0): furnaces 1.368 and 8.70 (z = +135,
+//   - the light side dropped (make_photon's light sum = 0): furnaces 1.368 and 8.70 (z = +135,
 //     +59), cornell-point z = +9.0;
+//   - merges weighted with the merge point's density from the normal instead of the other
+//     side's direction: test_bidirectional_materials.cpp (rough glass +32 %);
 //   - the light phase's eta × 2 (renderer.cpp pass_eta, the splats' MIS weights): furnace
 //     Y = 1 gives 0.9838 (z = −9.1 at 1024 passes; at 256 passes it was only −4.7);
 //   - a merge's depth counted one lower in Bdpt::merge: MaxDepthCountsMergesLikeConnections

@@ -516,13 +516,12 @@ SampledSpectrum Bdpt::merge(const MergeContext& mc) {
     for (int t = 2; t <= n_camera; ++t) {
         const Vertex& c = m_camera[t - 1];
         if (!mergeable(c) || c.beta.is_zero()) continue;
-        const Material& mat = m_scene.materials[c.hit.material];
+        const MergeSideSum camera_sum = camera_merge_sum(t);  // before bsdf_at(c): it may use the scratch
         const Bsdf& bsdf = bsdf_at(m_scene, c.hit);
-        const bool transmits = mat.flags.has(BsdfFlags::transmission);
+        const bool transmits = m_scene.materials[c.hit.material].flags.has(BsdfFlags::transmission);
         const float cos_o = dot(c.wo, c.hit.n);
         const float camera_density = remap0(c.pdf_fwd);
         const float merge_density = camera_density * mc.eta;
-        const MergeSideSum camera_sum = camera_merge_sum(t);
         mc.grid.query(c.p(), [&](std::uint32_t j, float) {
             const MergeContext::Photon& q = mc.photons[j];
             // Only photons on surfaces facing the same way (not a corner's other face),

@@ -332,8 +332,8 @@ RenderStats render(const Scene& scene, const RenderSettings& settings, Film& fil
     std::optional<BdptContext> bidir;  // what both bidirectional integrators share
     if (bdpt || vcm) {
         lights.emplace(scene);
-        bidir.emplace(scene, camera, *lights, settings.integrator, settings.width,
-                      &film.observer());
+        // Braces, not emplace's parentheses: clang 14 has no parenthesized aggregate init.
+        bidir.emplace(BdptContext{scene, camera, *lights, settings.integrator, settings.width, &film.observer()});
     }
     SplatMerger merger(film);
     std::optional<VcmPasses> vcm_passes;
