@@ -62,6 +62,10 @@ struct BdptContext {
 /// within the radius r; merging is one more strategy in the MIS sums, with a density
 /// π r² × (light subpaths in the pass) times that of the connection it replaces (`eta`).
 /// Every subpath of the pass uses the same wavelengths, so photons and camera paths agree.
+/// Merging happens at every surface vertex with a non-delta lobe, glossy ones included (as
+/// SmallVCM; no roughness threshold): the merge point's BSDF densities between the camera's
+/// and the photon's directions enter the weights per merge, so where a sharp lobe makes
+/// connections or BSDF sampling better the merge weighs little, and the kernel's blur with it.
 struct MergeContext {
     /// A mergeable light vertex with what a merge needs of its subpath, so that merging reads
     /// one record (the grid keeps them in its own order, for locality).
