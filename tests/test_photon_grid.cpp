@@ -266,7 +266,7 @@ TEST(PhotonGrid, MergePassIndexesDiffuseSurfaceVertices) {
 
     MergePass pass;
     const float r = 0.05f, eta = std::numbers::pi_v<float> * r * r * 3.f;
-    pass.build(batches, scene, SampledWavelengths::sample(0.5f), r, eta);
+    pass.build(batches, scene, r, eta);
     // Photons: subpath 0's vertex 3 (s = 4) and subpath 2's vertices 2 and 3 (s = 3, 4); not
     // subpath 0's first hit, the mirror or the glass.
     EXPECT_EQ(pass.photon_count(), 3u);

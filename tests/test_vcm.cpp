@@ -24,8 +24,10 @@
 //     (z = −37); only that test sees it;
 //   - the camera side of a merge's MIS sum dropped (camera_merge_sum without camera_sum):
 //     furnaces 1.0246 and 5.439 (z = +18, +17), cornell-point z = +4.2;
-//   - the light side dropped (make_photon's light_sum = 0): furnaces 1.368 and 8.70 (z = +135,
+//   - the light side dropped (make_photon's light sum = 0): furnaces 1.368 and 8.70 (z = +135,
 //     +59), cornell-point z = +9.0;
+//   - merges weighted with the merge point's density from the normal instead of the other
+//     side's direction: test_bidirectional_materials.cpp (rough glass +32 %);
 //   - the light phase's eta × 2 (renderer.cpp pass_eta, the splats' MIS weights): furnace
 //     Y = 1 gives 0.9838 (z = −9.1 at 1024 passes; at 256 passes it was only −4.7);
 //   - a merge's depth counted one lower in Bdpt::merge: MaxDepthCountsMergesLikeConnections
@@ -48,6 +50,7 @@
 #include "scene/scene_loader.h"
 #include "chi2.h"
 #include "test_scenes.h"
+#include "vcm_passes.h"
 
 namespace spt {
 namespace {
@@ -63,6 +66,8 @@ using test::image_mean_y;
 using test::ImageMean;
 using test::max_pixel_z;
 using test::mirror_material;
+using test::PassImages;
+using test::render_passes;
 using test::render_film;
 using test::small_settings;
 
@@ -77,58 +82,6 @@ Scene builtin(const std::string& name) {
     std::optional<Scene> scene = load_builtin_scene(name, {});
     EXPECT_TRUE(scene.has_value()) << name;
     return std::move(*scene);
-}
-
-/// A vcm render kept pass by pass: every pixel's Y of each pass (its camera sample plus the
-/// splats of that pass's light subpaths), from the film after each pass. All pixels of a pass
-/// share the wavelengths and the photons, so errors of means over pixels are taken from the
-/// spread of the per-pass means, not from the pixels' errors as if independent.
-struct PassImages {
-    int width = 0, height = 0, passes = 0;
-    std::vector<double> y;  ///< y[pass·pixels + pixel]
-    std::unique_ptr<Film> film;
-
-    double at(int pass, int x, int yy) const { return y[std::size_t(pass) * width * height + std::size_t(yy) * width + x]; }
-    /// Mean over passes and its standard error, of the mean over the pixels where mask holds.
-    template <typename Mask>
-    ImageMean region(Mask mask) const {
-        double sum = 0, sum2 = 0;
-        for (int k = 0; k < passes; ++k) {
-            double m = 0;
-            int n = 0;
-            for (int j = 0; j < height; ++j)
-                for (int i = 0; i < width; ++i)
-                    if (mask(i, j)) m += at(k, i, j), ++n;
-            m /= n;
-            sum += m, sum2 += m * m;
-        }
-        const double mean = sum / passes;
-        return {mean, std::sqrt(std::max(0.0, sum2 / passes - mean * mean) / (passes - 1))};
-    }
-    ImageMean pixel(int x, int yy) const {
-        return region([&](int i, int j) { return i == x && j == yy; });
-    }
-};
-
-PassImages render_passes(const Scene& scene, const RenderSettings& rs) {
-    PassImages p;
-    p.width = rs.width, p.height = rs.height;
-    p.film = std::make_unique<Film>(rs.width, rs.height);
-    const std::size_t n = std::size_t(rs.width) * rs.height;
-    std::vector<double> prev(n, 0.0);
-    RenderHooks hooks;
-    hooks.pass_completed = [&](int end) {
-        for (int j = 0; j < rs.height; ++j)
-            for (int i = 0; i < rs.width; ++i) {
-                const std::size_t k = std::size_t(j) * rs.width + i;
-                const double s = p.film->pixel_xyz(i, j).y * end;  // Σ camera + Σ splats
-                p.y.push_back(s - prev[k]);
-                prev[k] = s;
-            }
-        ++p.passes;
-    };
-    render(scene, rs, *p.film, hooks);
-    return p;
 }
 
 
@@ -216,7 +169,7 @@ float median_photons(const Scene& scene, const RenderSettings& rs, int paths, fl
         batches[0].ends.push_back(static_cast<std::uint32_t>(batches[0].vertices.size()));
     }
     MergePass pass;
-    pass.build(batches, scene, lambda, radius, 0.f);
+    pass.build(batches, scene, radius, 0.f);
     std::vector<float> counts;
     for (int j = 0; j < 16; ++j)
         for (int i = 0; i < 16; ++i)

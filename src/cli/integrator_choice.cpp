@@ -26,8 +26,7 @@ IntegratorChoice choose_integrator(const Options& options, const Scene& scene) {
     if (s.kind != IntegratorKind::path)
         feature = scene.effects.media                ? "participating media"
                   : !scene.spot_light_indices.empty() ? "spot lights"
-                  : scene.effects.textures           ? "textures"
-                                                     : nullptr;
+                                                      : nullptr;
     if (!feature && s.kind == IntegratorKind::vcm && scene.effects.motion_blur) {
         // Its merges join light subpaths of a whole pass, each at its own shutter time.
         feature = "motion blur";

@@ -34,14 +34,14 @@ float convert_density(float pdf, const Vertex& from, const Vertex& to) {
     return result;
 }
 
-/// The BSDF density at a merge point x towards the vertex before it on one side, with the
-/// direction of the other side's light standing in by the normal on wo's side: that
-/// direction is per photon, and for the Lambertian lobes of today's BSDFs the density does
-/// not depend on it (as SmallVCM takes x's own geometry for both sides).
-float reverse_density_at_photon(const Scene& scene, const BdptVertex& x, float hero_nm) {
-    const Bsdf& bsdf = scene.materials[x.hit.material].bsdf;
-    return bsdf_pdf(bsdf, face_forward(x.hit.ns, x.wo), x.wo, x.hit.ns, hero_nm);
-}
+/// One side's part of the MIS sum of a merge: constant + per_density·p, p the solid-angle
+/// density with which the merge point's BSDF samples that side's direction from the other
+/// side's. The two directions meet only per merge (camera vertex and photon), and for any
+/// lobe but a Lambertian one p depends on both (Georgiev et al. 2012; SmallVCM evaluates the
+/// camera's BSDF at the photon's direction for both densities).
+struct MergeSideSum {
+    float constant = 0.f, per_density = 0.f;
+};
 
 /// Importance transport with a shading normal that differs from the geometric one: the
 /// adjoint BSDF gains |wo·ns||wi·ng| / (|wo·ng||wi·ns|) (Veach 1997, §5.3); 1 when ns = n.
@@ -50,6 +50,16 @@ float shading_correction(const Hit& hit, const Vec3& wo, const Vec3& wi) {
     const float den = std::fabs(dot(wo, hit.n)) * std::fabs(dot(wi, hit.ns));
     if (!(den > 0.f)) return 0.f;
     return std::fabs(dot(wo, hit.ns)) * std::fabs(dot(wi, hit.n)) / den;
+}
+
+/// The BSDF at a surface hit: its material's, or for a textured material the material with
+/// each bound parameter read from its texture at the hit, as the path tracer takes it (made in
+/// this thread's scratch BSDF: valid until the next call on the thread).
+const Bsdf& bsdf_at(const Scene& scene, const Hit& hit) {
+    const Material& m = scene.materials[hit.material];
+    if (!m.textured) [[likely]] return m.bsdf;
+    thread_local Bsdf scratch;
+    return scene.textured_bsdf(hit, scratch);
 }
 
 /// Densities of delta events are stored as 0; in ratios they cancel, as 1.
@@ -95,7 +105,7 @@ private:
     float pdf(const Vertex& v, const Vertex* prev, const Vertex& next) const;
     float light_direction_pdf(const Vertex& light, const Vertex& next) const;
     float mis_weight(int s, int t);
-    float camera_merge_sum(int t) const;
+    MergeSideSum camera_merge_sum(int t) const;
     float other_strategies(int s, int t, int camera_stop) const;
     bool visible(const Vertex& a, const Vertex& b);
     SampledSpectrum f_cos(const Vertex& v, const Vec3& wi, const SampledWavelengths& lambda, Transport mode) const;
@@ -156,7 +166,8 @@ void Bdpt::random_walk(Ray ray, SampledSpectrum beta, float pdf_dir, int max_ver
         if (!mat.reflects() || static_cast<int>(path.size()) == max_vertices) break;
 
         const float u_lobe = m_rng.uniform(), u1 = m_rng.uniform(), u2 = m_rng.uniform();
-        const std::optional<BsdfSample> bs = bsdf_sample(mat.bsdf, v.wo, hit->ns, lambda, u_lobe, u1, u2, mode);
+        const Bsdf& bsdf = bsdf_at(m_scene, *hit);
+        const std::optional<BsdfSample> bs = bsdf_sample(bsdf, v.wo, hit->ns, lambda, u_lobe, u1, u2, mode);
         if (!bs) break;
         Vertex& cur = path.back();
         Vertex& prev = path[path.size() - 2];
@@ -166,7 +177,7 @@ void Bdpt::random_walk(Ray ray, SampledSpectrum beta, float pdf_dir, int max_ver
             pdf_fwd = pdf_rev = 0.f;
         } else {
             pdf_fwd = bs->pdf;
-            pdf_rev = bsdf_pdf(mat.bsdf, bs->wi, cur.wo, hit->ns, m_hero);
+            pdf_rev = bsdf_pdf(bsdf, bs->wi, cur.wo, hit->ns, m_hero);
         }
         // The BSDF weighs importance with the adjoint BSDF (no (η_i/η_t)² on refraction).
         beta *= bs->weight;
@@ -189,7 +200,7 @@ void Bdpt::random_walk(Ray ray, SampledSpectrum beta, float pdf_dir, int max_ver
 /// arrives from wi), importance mode at light vertices (light arrives from v.wo and leaves
 /// along wi: the adjoint BSDF, which differs from f where refraction scales radiance).
 SampledSpectrum Bdpt::f_cos(const Vertex& v, const Vec3& wi, const SampledWavelengths& lambda, Transport mode) const {
-    return bsdf_eval(m_scene.materials[v.hit.material].bsdf, v.wo, wi, v.hit.ns, lambda, mode);
+    return bsdf_eval(bsdf_at(m_scene, v.hit), v.wo, wi, v.hit.ns, lambda, mode);
 }
 
 float Bdpt::light_direction_pdf(const Vertex& light, const Vertex& next) const {
@@ -209,7 +220,7 @@ float Bdpt::pdf(const Vertex& v, const Vertex* prev, const Vertex& next) const {
         return convert_density(m_ctx.camera.direction_pdf(dot(wn, m_ctx.camera.forward())), v, next);
     }
     const Vec3 wp = direction(v, *prev);
-    return convert_density(bsdf_pdf(m_scene.materials[v.hit.material].bsdf, wp, wn, v.hit.ns, m_hero), v, next);
+    return convert_density(bsdf_pdf(bsdf_at(m_scene, v.hit), wp, wn, v.hit.ns, m_hero), v, next);
 }
 
 /// Balance heuristic over all (s', t') with s' + t' = s + t, by walking the path with the
@@ -305,14 +316,15 @@ void Bdpt::prefix_sums(std::vector<Vertex>& path, bool light_side) const {
 }
 
 /// The camera side of the MIS sum of a merge at c = m_camera[t − 1], including the
-/// reference strategy (1 if it exists). The merged path is the photon's light prefix
-/// followed by the camera prefix before c (c and the photon coincide within the radius); its
-/// densities are taken relative to the connection of the photon with pt = m_camera[t − 2],
-/// itself a strategy only if pt is not delta. Densities that depend on both sides use c's
-/// geometry and material for the photon's (as SmallVCM does): pt's density as reached from
-/// the merged point, and pt's density of pt_minus with the light arriving from c.
-float Bdpt::camera_merge_sum(int t) const {
-    if (t < 3) return 1.f;  // pt is the camera: light tracing is the reference
+/// reference strategy (the constant: 1 if it exists). The merged path is the photon's light
+/// prefix followed by the camera prefix before c (c and the photon coincide within the
+/// radius); its densities are taken relative to the connection of the photon with
+/// pt = m_camera[t − 2], itself a strategy only if pt is not delta. Densities that depend on
+/// both sides use c's geometry and material for the photon's (as SmallVCM does): pt's density
+/// of pt_minus with the light arriving from c, and (per merge, the per_density part) c's
+/// density of the direction towards pt with the light arriving along the photon's.
+MergeSideSum Bdpt::camera_merge_sum(int t) const {
+    if (t < 3) return {1.f, 0.f};  // pt is the camera: light tracing is the reference
     const Vertex& c = m_camera[t - 1];
     const Vertex& pt = m_camera[t - 2];
     const Vertex& pt_minus = m_camera[t - 3];
@@ -324,11 +336,11 @@ float Bdpt::camera_merge_sum(int t) const {
         before_pt = r * pt_minus2.mis_sum + (!pt_minus.delta && mergeable(pt_minus) ? rev * m_eta : 0.f) +
                     (!pt_minus.delta && !pt_minus2.delta ? r : 0.f);
     }
-    const float rev = remap0(convert_density(reverse_density_at_photon(m_scene, c, m_hero), c, pt));
-    const float r = rev / remap0(pt.pdf_fwd);
-    const float camera_sum = r * before_pt + (!pt.delta && mergeable(pt) ? rev * m_eta : 0.f) +
-                             (!pt.delta && !pt_minus.delta ? r : 0.f);
-    return (pt.delta ? 0.f : 1.f) + camera_sum;
+    // pt's reverse density is g·p (area per solid angle at pt); every term below is ∝ it.
+    const float g = convert_density(1.f, c, pt), fwd = remap0(pt.pdf_fwd);
+    const float per_density = g * (before_pt / fwd + (!pt.delta && mergeable(pt) ? m_eta : 0.f) +
+                                   (!pt.delta && !pt_minus.delta ? 1.f / fwd : 0.f));
+    return {pt.delta ? 0.f : 1.f, per_density};
 }
 
 bool Bdpt::visible(const Vertex& a, const Vertex& b) {
@@ -455,7 +467,8 @@ SampledSpectrum Bdpt::connect() {
             if (s == 0) {
                 // The camera path hits an emitter.
                 if (pt.type != VertexType::surface || pt.hit.light < 0) continue;
-                const SampledSpectrum c = pt.beta * m_scene.emitted(pt.hit, m_lambda);
+                const SampledSpectrum c = pt.beta * (m_scene.effects.textures ? m_scene.emitted_textured(pt.hit, m_lambda)
+                                                                              : m_scene.emitted(pt.hit, m_lambda));
                 if (c.is_zero()) continue;
                 const float w = m_ctx.lights.origin_pdf(pt.hit) > 0.f ? mis_weight(0, t) : 1.f;
                 accumulate(c * w, terminated);
@@ -492,26 +505,35 @@ SampledSpectrum Bdpt::connect() {
 /// Merging at camera vertex c with photon q: contribution f(c)·β_c·β_q/(π r² N) times the
 /// balance weight merge/(camera side + light side + merge), all densities relative to the
 /// connection of q with the camera vertex before c. The merge's own density is the camera's
-/// density of c times eta; the light side is the photon's light_sum times the same camera
-/// density (make_photon).
+/// density of c times eta; the light side is the photon's sum (make_photon) times the same
+/// camera density. Both sides' sums depend on c's BSDF density between c.wo and the photon's
+/// wo, in either order: evaluated per merge. Photons arriving on the other side of the
+/// surface merge where the material transmits (the MIS sums count a merge at every mergeable
+/// vertex, transmitting or not).
 SampledSpectrum Bdpt::merge(const MergeContext& mc) {
     const float inv_eta = 1.f / mc.eta;
     const int n_camera = static_cast<int>(m_camera.size());
     for (int t = 2; t <= n_camera; ++t) {
         const Vertex& c = m_camera[t - 1];
         if (!mergeable(c) || c.beta.is_zero()) continue;
-        const Bsdf& bsdf = m_scene.materials[c.hit.material].bsdf;
+        const MergeSideSum camera_sum = camera_merge_sum(t);  // before bsdf_at(c): it may use the scratch
+        const Bsdf& bsdf = bsdf_at(m_scene, c.hit);
+        const bool transmits = m_scene.materials[c.hit.material].flags.has(BsdfFlags::transmission);
         const float cos_o = dot(c.wo, c.hit.n);
         const float camera_density = remap0(c.pdf_fwd);
         const float merge_density = camera_density * mc.eta;
-        const float camera_side = camera_merge_sum(t) + merge_density;
         mc.grid.query(c.p(), [&](std::uint32_t j, float) {
             const MergeContext::Photon& q = mc.photons[j];
-            // Only photons on surfaces facing the same way (not the other side of a thin wall
-            // or a corner's other face), arriving on c's side, within the depth limit (a
-            // merge at (s, t) has the depth of the connection (s, t − 1)).
-            if (q.s + t - 3 > max_depth() || dot(q.n, c.hit.n) < 0.5f || cos_o * dot(q.wo, c.hit.n) <= 0.f) return;
-            const float w = merge_density / (camera_side + camera_density * q.light_sum);
+            // Only photons on surfaces facing the same way (not a corner's other face),
+            // arriving on c's side unless c transmits, within the depth limit (a merge at
+            // (s, t) has the depth of the connection (s, t − 1)).
+            if (q.s + t - 3 > max_depth() || dot(q.n, c.hit.n) < 0.5f) return;
+            if (!transmits && cos_o * dot(q.wo, c.hit.n) <= 0.f) return;
+            const float to_light = bsdf_pdf(bsdf, c.wo, q.wo, c.hit.ns, m_hero);
+            const float to_camera = bsdf_pdf(bsdf, q.wo, c.wo, c.hit.ns, m_hero);
+            const float camera_side = camera_sum.constant + camera_sum.per_density * to_camera + merge_density;
+            const float light_side = camera_density * (q.light_connection + q.light_per_density * to_light);
+            const float w = merge_density / (camera_side + light_side);
             if (!(w > 0.f) || !std::isfinite(w)) return;
             // f without the cosine: the photon's throughput is flux arriving at its point.
             const float cos_q = std::fabs(dot(q.wo, c.hit.ns));
@@ -574,7 +596,7 @@ SampledSpectrum trace_camera_subpath(const BdptContext& ctx, const MergeContext&
     return bdpt.merge(merge);
 }
 
-MergeContext::Photon make_photon(const Scene& scene, const BdptVertex* path, int s, float eta, float hero_nm) {
+MergeContext::Photon make_photon(const Scene& scene, const BdptVertex* path, int s, float eta) {
     const BdptVertex& q = path[s - 1];
     const BdptVertex& q_minus = path[s - 2];
     MergeContext::Photon photon;
@@ -585,17 +607,18 @@ MergeContext::Photon make_photon(const Scene& scene, const BdptVertex* path, int
     photon.s = s;
     photon.terminated = q.terminated;
     // Light side of other_strategies' walk for the merged path, from q_minus down: q_minus's
-    // camera-side density is q's BSDF density towards it (independent of the camera's
-    // direction but for the side, which merge() checks); q's is the camera's density of c,
-    // a factor the caller applies.
-    const float rev = remap0(convert_density(reverse_density_at_photon(scene, q, hero_nm), q, q_minus));
-    const float r = rev / remap0(q_minus.pdf_fwd);
+    // reverse density is g·p, p the merge point's BSDF density of wo from the camera's
+    // direction (per merge: Bdpt::merge), and every term of q_minus's sum is ∝ it; the
+    // connection of q_minus with the merge point is the constant. q's density is the
+    // camera's density of c, a factor the caller applies.
+    const float g = convert_density(1.f, q, q_minus), fwd = remap0(q_minus.pdf_fwd);
     const bool delta_before = s - 2 > 0 ? path[s - 3].delta : q_minus.delta_light;
     const bool merge_q_minus = s - 2 >= 2 && !q_minus.delta && q_minus.type == BdptVertexType::surface &&
                                !q_minus.infinite && scene.materials[q_minus.hit.material].has_non_delta();
-    const float sum_q_minus = r * (s >= 3 ? path[s - 3].mis_sum : 0.f) + (merge_q_minus ? rev * eta : 0.f) +
-                              (!q_minus.delta && !delta_before ? r : 0.f);
-    photon.light_sum = (sum_q_minus + (!q_minus.delta ? 1.f : 0.f)) / remap0(q.pdf_fwd);
+    const float per_density = g * (path[s - 3].mis_sum / fwd + (merge_q_minus ? eta : 0.f) +
+                                   (!q_minus.delta && !delta_before ? 1.f / fwd : 0.f));
+    photon.light_connection = (!q_minus.delta ? 1.f : 0.f) / remap0(q.pdf_fwd);
+    photon.light_per_density = per_density / remap0(q.pdf_fwd);
     return photon;
 }
 

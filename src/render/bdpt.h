@@ -62,6 +62,10 @@ struct BdptContext {
 /// within the radius r; merging is one more strategy in the MIS sums, with a density
 /// π r² × (light subpaths in the pass) times that of the connection it replaces (`eta`).
 /// Every subpath of the pass uses the same wavelengths, so photons and camera paths agree.
+/// Merging happens at every surface vertex with a non-delta lobe, glossy ones included (as
+/// SmallVCM; no roughness threshold): the merge point's BSDF densities between the camera's
+/// and the photon's directions enter the weights per merge, so where a sharp lobe makes
+/// connections or BSDF sampling better the merge weighs little, and the kernel's blur with it.
 struct MergeContext {
     /// A mergeable light vertex with what a merge needs of its subpath, so that merging reads
     /// one record (the grid keeps them in its own order, for locality).
@@ -70,8 +74,10 @@ struct MergeContext {
         Vec3 wo;               ///< towards the previous vertex of its subpath
         SampledSpectrum beta;  ///< light subpath throughput arriving here
         /// The light side of the MIS sum of a merge here, per unit of the camera's area
-        /// density of this point (Bdpt::merge_weight).
-        float light_sum = 0.f;
+        /// density of this point: light_connection + light_per_density·p, p the solid-angle
+        /// density with which the merge point's BSDF samples wo from the camera's direction
+        /// (known only per merge: Bdpt::merge).
+        float light_connection = 0.f, light_per_density = 0.f;
         int s = 0;                ///< vertices of its light subpath up to and including it
         bool terminated = false;  ///< a dispersive refraction happened before it
     };
@@ -83,9 +89,8 @@ struct MergeContext {
 };
 
 /// The photon of light subpath vertex path[s − 1] (s ≥ 3, a mergeable surface vertex whose
-/// BdptVertex::mis_sum values are filled) for a pass with merging density `eta` and hero
-/// wavelength `hero_nm`.
-MergeContext::Photon make_photon(const Scene& scene, const BdptVertex* path, int s, float eta, float hero_nm);
+/// BdptVertex::mis_sum values are filled) for a pass with merging density `eta`.
+MergeContext::Photon make_photon(const Scene& scene, const BdptVertex* path, int s, float eta);
 
 /// Vertex merging, first phase: traces one light subpath at `lambda` (the pass's wavelengths),
 /// appends its vertices to `out` and its light-to-camera (t = 1) contributions to `splats`,

@@ -53,7 +53,10 @@ std::optional<LightOrigin> LightSampler::sample(const SampledWavelengths& lambda
             else return std::nullopt;
         },
         light);
-    if (o) o->pdf_pos *= choice;
+    if (!o) return o;
+    o->pdf_pos *= choice;
+    // An emission texture: its radiance at the point (uniform by area, so the densities stay).
+    if (m_scene.light_textured(index)) o->Le = m_scene.light_point_emission(index, o->p, lambda);
     return o;
 }
 

@@ -185,7 +185,7 @@ public:
     }
 
     /// After the light phase: the photon grid of the pass.
-    void build_grid() { m_pass.build(m_batches, m_ctx.scene, m_lambda, m_radius, m_eta); }
+    void build_grid() { m_pass.build(m_batches, m_ctx.scene, m_radius, m_eta); }
 
     /// Camera phase of a tile: each pixel's sample (Rng and jitter as the other integrators,
     /// the pass's wavelengths instead of its own), connected to light subpath y·width + x.
@@ -332,8 +332,8 @@ RenderStats render(const Scene& scene, const RenderSettings& settings, Film& fil
     std::optional<BdptContext> bidir;  // what both bidirectional integrators share
     if (bdpt || vcm) {
         lights.emplace(scene);
-        bidir.emplace(scene, camera, *lights, settings.integrator, settings.width,
-                      &film.observer());
+        // Braces, not emplace's parentheses: clang 14 has no parenthesized aggregate init.
+        bidir.emplace(BdptContext{scene, camera, *lights, settings.integrator, settings.width, &film.observer()});
     }
     SplatMerger merger(film);
     std::optional<VcmPasses> vcm_passes;

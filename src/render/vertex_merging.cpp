@@ -5,8 +5,7 @@
 
 namespace spt {
 
-void MergePass::build(std::vector<LightSubpathBatch>& batches, const Scene& scene, const SampledWavelengths& lambda,
-                      float radius, float eta) {
+void MergePass::build(std::vector<LightSubpathBatch>& batches, const Scene& scene, float radius, float eta) {
     m_vertices.clear();
     m_begin.assign(1, 0);
     std::vector<MergeContext::Photon> photons;
@@ -19,8 +18,7 @@ void MergePass::build(std::vector<LightSubpathBatch>& batches, const Scene& scen
             for (std::uint32_t v = begin + 2; v < offset + end; ++v) {
                 const BdptVertex& x = m_vertices[v];
                 if (x.type == BdptVertexType::surface && !x.infinite && scene.materials[x.hit.material].has_non_delta())
-                    photons.push_back(make_photon(scene, &m_vertices[begin], static_cast<int>(v - begin) + 1, eta,
-                                                  lambda.lambda[0]));
+                    photons.push_back(make_photon(scene, &m_vertices[begin], static_cast<int>(v - begin) + 1, eta));
             }
             begin = offset + end;
             m_begin.push_back(begin);
@@ -73,7 +71,7 @@ float default_merge_radius(const BdptContext& ctx, const RenderSettings& setting
         batches[0].splats.clear();  // the pilot only counts photons
     }
     MergePass pilot;
-    pilot.build(batches, ctx.scene, lambda, radius, 0.f);
+    pilot.build(batches, ctx.scene, radius, 0.f);
     std::vector<float> counts;
     for (const Vec3& p : hits) {
         int count = 0;

@@ -27,11 +27,11 @@ struct LightSubpathBatch {
 
 class MergePass {
 public:
-    /// Concatenates the batches (consumed) and indexes the photons: surface vertices after the
-    /// origin, on materials with a diffuse lobe. eta = π r² × the number of subpaths (the
-    /// light phase already used it in its splats' weights).
-    void build(std::vector<LightSubpathBatch>& batches, const Scene& scene, const SampledWavelengths& lambda,
-               float radius, float eta);
+    /// Concatenates the batches (consumed) and indexes the photons: surface vertices from
+    /// each subpath's second hit on (light index ≥ 2), on materials with a non-delta lobe.
+    /// eta = π r² × the number of subpaths (the light phase already used it in its splats'
+    /// weights).
+    void build(std::vector<LightSubpathBatch>& batches, const Scene& scene, float radius, float eta);
     MergeContext context() const { return {m_vertices, m_begin, m_photons, m_grid, m_eta}; }
     std::size_t photon_count() const { return m_photons.size(); }
     const PhotonGrid& grid() const { return m_grid; }

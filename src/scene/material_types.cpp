@@ -21,31 +21,33 @@ void reject_anisotropy(const SpectrumParser& p, const JsonValue& def, const std:
                                         "do not have; expected one number \"roughness\" in [0, 1]");
 }
 
-GgxDistribution roughness(const SpectrumParser& p, const JsonValue& def, const std::string& what) {
+GgxDistribution roughness(const SpectrumParser& p, const JsonValue& def, const std::string& what,
+                          const FloatParameter& number) {
     GgxDistribution g;
     const JsonValue* v = def.find("roughness");
     if (!v) return g;
     if (v->is_array())
         p.fail(v->pos(), what + " roughness is an array: anisotropic roughness needs a surface tangent, which "
                                 "materials do not have; expected one number in [0, 1]");
-    g.alpha = static_cast<float>(p.number_in(*v, what + " roughness", 0, 1));
+    g.alpha = number(*v, "roughness", what + " roughness", 0, 1, false);
     return g;
 }
 
 /// "film": {"thickness_nm": d, "ior": spectrum}; absent or d = 0 means no film.
-ThinFilm film(const SpectrumParser& p, const JsonValue& def, const std::string& what) {
+ThinFilm film(const SpectrumParser& p, const JsonValue& def, const std::string& what, const FloatParameter& number) {
     ThinFilm f;
     const JsonValue* v = def.find("film");
     if (!v) return f;
     const std::string w = what + " film";
     p.object(*v, w);
     p.check_keys(*v, w, {"thickness_nm", "ior"});
-    f.thickness_nm = static_cast<float>(p.number_in(p.required(*v, "thickness_nm", w), w + " thickness_nm", 0, 1e5));
+    f.thickness_nm = number(p.required(*v, "thickness_nm", w), "film thickness_nm", w + " thickness_nm", 0, 1e5, false);
     f.eta = p.spectrum(p.required(*v, "ior", w), w + " ior", SpectrumUse::Index);
     return f;
 }
 
-ConductorBsdf conductor(const SpectrumParser& p, const JsonValue& def, const std::string& what) {
+ConductorBsdf conductor(const SpectrumParser& p, const JsonValue& def, const std::string& what,
+                        const FloatParameter& number) {
     p.check_keys(def, what, {"type", "metal", "eta", "k", "roughness", "film", "emission"});
     ConductorBsdf c;
     const JsonValue* metal = def.find("metal");
@@ -67,21 +69,23 @@ ConductorBsdf conductor(const SpectrumParser& p, const JsonValue& def, const std
         c.eta = p.spectrum(*eta, what + " eta", SpectrumUse::ConductorIndex);
         c.k = p.spectrum(*k, what + " k", SpectrumUse::Extinction);
     }
-    c.ggx = roughness(p, def, what);
-    c.film = film(p, def, what);
+    c.ggx = roughness(p, def, what, number);
+    c.film = film(p, def, what, number);
     return c;
 }
 
-DielectricBsdf dielectric(const SpectrumParser& p, const JsonValue& def, const std::string& what) {
+DielectricBsdf dielectric(const SpectrumParser& p, const JsonValue& def, const std::string& what,
+                          const FloatParameter& number) {
     p.check_keys(def, what, {"type", "ior", "roughness", "film", "emission"});
     DielectricBsdf d;
     d.eta = p.spectrum(p.required(def, "ior", what), what + " ior", SpectrumUse::Index);
-    d.ggx = roughness(p, def, what);
-    d.film = film(p, def, what);
+    d.ggx = roughness(p, def, what, number);
+    d.film = film(p, def, what, number);
     return d;
 }
 
-PlasticBsdf plastic(const SpectrumParser& p, const JsonValue& def, const std::string& what) {
+PlasticBsdf plastic(const SpectrumParser& p, const JsonValue& def, const std::string& what,
+                    const FloatParameter& number) {
     p.check_keys(def, what, {"type", "kd", "ior", "roughness", "emission"});
     Spectrum kd = p.spectrum(p.required(def, "kd", what), what + " kd", SpectrumUse::Reflectance);
     float eta = 1.5f;
@@ -92,14 +96,17 @@ PlasticBsdf plastic(const SpectrumParser& p, const JsonValue& def, const std::st
                                     "albedo table is built for one index)");
         eta = s.eval(550.f);
     }
-    return make_plastic(std::move(kd), eta, roughness(p, def, what).alpha);
+    if (const JsonValue* v = def.find("roughness"); v && v->is_object())
+        p.fail(v->pos(), what + " roughness cannot be bound to a texture (the coat's albedo table is built for "
+                                "one roughness); expected a number in [0, 1]");
+    return make_plastic(std::move(kd), eta, roughness(p, def, what, number).alpha);
 }
 
-ThinSheetBsdf thin_sheet(const SpectrumParser& p, const JsonValue& def, const std::string& what) {
+ThinSheetBsdf thin_sheet(const SpectrumParser& p, const JsonValue& def, const std::string& what,
+                        const FloatParameter& number) {
     p.check_keys(def, what, {"type", "thickness_nm", "ior", "emission"});
     ThinSheetBsdf t;
-    t.film.thickness_nm =
-        static_cast<float>(p.number_in(p.required(def, "thickness_nm", what), what + " thickness_nm", 0, 1e5, true));
+    t.film.thickness_nm = number(p.required(def, "thickness_nm", what), "thickness_nm", what + " thickness_nm", 0, 1e5, true);
     t.film.eta = p.spectrum(p.required(def, "ior", what), what + " ior", SpectrumUse::Index);
     return t;
 }
@@ -132,13 +139,13 @@ bool is_microfacet_material_type(const std::string& type) {
 }
 
 Bsdf parse_microfacet_material(const SpectrumParser& spectra, const JsonValue& def, const std::string& type,
-                               const std::string& what) {
+                               const std::string& what, const FloatParameter& number) {
     const std::string w = what + " of type " + quote_text(type);
     reject_anisotropy(spectra, def, w);  // before the key check, which would only call it unknown
-    if (type == "conductor") return conductor(spectra, def, w);
-    if (type == "dielectric") return dielectric(spectra, def, w);
-    if (type == "plastic") return plastic(spectra, def, w);
-    return thin_sheet(spectra, def, w);
+    if (type == "conductor") return conductor(spectra, def, w, number);
+    if (type == "dielectric") return dielectric(spectra, def, w, number);
+    if (type == "plastic") return plastic(spectra, def, w, number);
+    return thin_sheet(spectra, def, w, number);
 }
 
 void validate_surface_model(const Bsdf& bsdf, const std::string& who) {

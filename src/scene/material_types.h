@@ -5,6 +5,7 @@
 //   thin_sheet  soap bubble: "thickness_nm", "ior"
 // and the checks of their parameters for materials made in code.
 #pragma once
+#include <functional>
 #include <string>
 
 #include "model/bsdfs/bsdf.h"
@@ -15,11 +16,18 @@ namespace spt {
 /// Whether `type` names one of the types parsed here.
 bool is_microfacet_material_type(const std::string& type);
 
+/// Reads the float parameter `v` (at `key` of the material: "roughness", "thickness_nm",
+/// "film thickness_nm") within [lo, hi] (lo excluded when lo_open); `what` names it in
+/// messages. The loader's accepts {"texture": NAME} too: it records the binding under `key`
+/// and returns the texture's largest value (the parameter's envelope, Material::textures).
+using FloatParameter = std::function<float(const JsonValue& v, const std::string& key, const std::string& what,
+                                           double lo, double hi, bool lo_open)>;
+
 /// The BSDF of material `def` (an object with "type" = one of the types above; `what` names
-/// it in messages). Keys "emission" and "type" are allowed and left to the caller. Throws
-/// LocatedError.
+/// it in messages), its float parameters read through `number`. Keys "emission" and "type"
+/// are allowed and left to the caller. Throws LocatedError.
 Bsdf parse_microfacet_material(const SpectrumParser& spectra, const JsonValue& def, const std::string& type,
-                               const std::string& what);
+                               const std::string& what, const FloatParameter& number);
 
 /// Checks the parameters of the types above (ranges at every wavelength); throws SceneError.
 void validate_surface_model(const Bsdf& bsdf, const std::string& who);

@@ -2,6 +2,7 @@
 // analysis of which effects the scene calls for.
 #include "scene/scene.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <sstream>
@@ -224,9 +225,17 @@ void Scene::finalize() {
         validate_material(m);
         m.flags = bsdf_flags(m.bsdf);
         m.textured = !m.textures.empty();
-        for (const TextureBinding& b : m.textures)
+        for (const TextureBinding& b : m.textures) {
             require(b.parameter && b.texture >= 0 && b.texture < static_cast<int>(textures.size()),
                     "material '" + m.name + "' refers to a texture that does not exist");
+            // A textured number (a roughness) holds its largest value; its smallest may add
+            // lobes (α = 0: a delta lobe), which the flags must include.
+            const std::vector<float>& values = textures[static_cast<std::size_t>(b.texture)].values;
+            if (!b.parameter->number || values.empty()) continue;
+            Bsdf lowest = m.bsdf;
+            *b.parameter->number(lowest) = *std::min_element(values.begin(), values.end());
+            m.flags.bits |= bsdf_flags(lowest).bits;
+        }
     }
     auto check_material_index = [&](int index, const std::string& who) {
         require(index >= 0 && index < static_cast<int>(materials.size()),

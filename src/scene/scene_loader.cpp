@@ -303,7 +303,7 @@ private:
                 if (!b.has_mirror() && !b.has_transmission()) m.bsdf = DiffuseBsdf{std::move(b.kd)};
                 else m.bsdf = std::move(b);
             } else if (is_microfacet_material_type(type)) {
-                m.bsdf = parse_microfacet_material(m_spectra, def, type, what);
+                m.bsdf = parse_microfacet_material(m_spectra, def, type, what, float_parameter(bound));
             } else {
                 const std::vector<std::string> types = {"diffuse", "lobes", "conductor", "dielectric", "plastic",
                                                         "thin_sheet"};
@@ -312,7 +312,10 @@ private:
             }
             for (const auto& [key, texture] : bound) {
                 const TexturableParameter* p = find_texturable(m.bsdf.index(), key);
-                if (!p) fail(def.find(key)->pos(), what + " " + key + " cannot be bound to a texture; expected a spectrum");
+                if (!p) {
+                    const JsonValue* x = def.find(key);
+                    fail(x ? x->pos() : def.pos(), what + " " + key + " cannot be bound to a texture; expected a spectrum");
+                }
                 m.textures.push_back({p, texture});
             }
             Spectrum emission;
@@ -323,6 +326,26 @@ private:
             m_material_emission_texture.push_back(emission_texture);
             m_material_index[name] = static_cast<int>(m_scene.materials.size()) - 1;
         }
+    }
+
+    /// Float parameters of the microfacet types: a number, or {"texture": NAME} of a number
+    /// texture whose every value lies in the range (recorded in `bound`, its largest value
+    /// returned: the envelope).
+    FloatParameter float_parameter(std::vector<std::pair<std::string, int>>& bound) {
+        return [this, &bound](const JsonValue& v, const std::string& key, const std::string& what, double lo,
+                              double hi, bool lo_open) -> float {
+            if (!TextureParser::is_binding(v)) return static_cast<float>(number_in(v, what, lo, hi, lo_open));
+            const int t = m_textures.bind(v, what, TextureUse::number);
+            for (const float x : m_scene.textures[static_cast<std::size_t>(t)].values)
+                if (!((lo_open ? x > lo : x >= lo) && x <= hi)) {
+                    std::ostringstream msg;
+                    msg << what << " texture has the value " << x << "; expected every value in " << (lo_open ? "(" : "[")
+                        << lo << ", " << hi << "]";
+                    fail(v.pos(), msg.str());
+                }
+            bound.emplace_back(key, t);
+            return m_textures.max_number(t);
+        };
     }
 
     /// An emission spectrum, or {"texture": NAME, "scale": S}: then `texture` is set and the

@@ -30,6 +30,11 @@ template <typename B, float B::*Member>
 float* float_member(Bsdf& bsdf) {
     return &(std::get<B>(bsdf).*Member);
 }
+/// A float inside a member struct (the GGX α of `ggx`, the thickness of `film`).
+template <typename B, typename Part, Part B::*Outer, float Part::*Inner>
+float* nested_float_member(Bsdf& bsdf) {
+    return &((std::get<B>(bsdf).*Outer).*Inner);
+}
 
 /// A parameter that a texture may drive: exactly one of `spectrum` and `number` is set.
 struct TexturableParameter {
@@ -45,6 +50,16 @@ inline const std::vector<TexturableParameter>& texturable_parameters() {
         {bsdf_index<LobeMixBsdf>(), "kd", &spectrum_member<LobeMixBsdf, &LobeMixBsdf::kd>, nullptr},
         {bsdf_index<LobeMixBsdf>(), "ks", &spectrum_member<LobeMixBsdf, &LobeMixBsdf::ks>, nullptr},
         {bsdf_index<LobeMixBsdf>(), "kt", &spectrum_member<LobeMixBsdf, &LobeMixBsdf::kt>, nullptr},
+        {bsdf_index<ConductorBsdf>(), "roughness", nullptr,
+         &nested_float_member<ConductorBsdf, GgxDistribution, &ConductorBsdf::ggx, &GgxDistribution::alpha>},
+        {bsdf_index<DielectricBsdf>(), "roughness", nullptr,
+         &nested_float_member<DielectricBsdf, GgxDistribution, &DielectricBsdf::ggx, &GgxDistribution::alpha>},
+        {bsdf_index<ConductorBsdf>(), "film thickness_nm", nullptr,
+         &nested_float_member<ConductorBsdf, ThinFilm, &ConductorBsdf::film, &ThinFilm::thickness_nm>},
+        {bsdf_index<DielectricBsdf>(), "film thickness_nm", nullptr,
+         &nested_float_member<DielectricBsdf, ThinFilm, &DielectricBsdf::film, &ThinFilm::thickness_nm>},
+        {bsdf_index<ThinSheetBsdf>(), "thickness_nm", nullptr,
+         &nested_float_member<ThinSheetBsdf, ThinFilm, &ThinSheetBsdf::film, &ThinFilm::thickness_nm>},
     };
     return list;
 }
