@@ -99,7 +99,10 @@ TEST_F(Preview, ARunWithoutPreviewsLeavesAnEarlierPartialFile) {
     std::ofstream(dir / "out.partial.pfm", std::ios::binary) << "earlier";
     ASSERT_EQ(run(args(8, 8, 2, {"--quiet", "-o", path("out.pfm")}), dir / "log"), 0);
     EXPECT_EQ(read_file(dir / "out.partial.pfm"), "earlier");
-    ASSERT_EQ(run(args(8, 8, 2, {"--quiet", "--preview-interval", "0", "-o", path("out.pfm")}),
+    // A run with previews removes the partial files it wrote. A preview still queued when the
+    // render ends is dropped (the final image follows), so this run has 128 passes to be sure
+    // of writing one even on a loaded machine (8 × 8 × 2 in one pass wrote none, at times).
+    ASSERT_EQ(run(args(32, 32, 128, {"--quiet", "--preview-interval", "0", "--pass-spp", "1", "-o", path("out.pfm")}),
                   dir / "log"),
               0);
     EXPECT_FALSE(fs::exists(dir / "out.partial.pfm"));
