@@ -387,7 +387,8 @@ int run_merge(const std::vector<std::string>& args) {
         if (variant.find(std::string(" integrator=") + spt::integrator_name(kind)) != std::string::npos)
             rs.integrator.kind = kind;
     rs.integrator.wavelengths_per_path = variant.starts_with("wavelengths-per-path=1") ? 1 : 4;
-    if (variant.find(" sampler=sobol") != std::string::npos) rs.sampler = spt::SamplerKind::sobol;
+    rs.sampler = variant.find(" sampler=sobol") != std::string::npos ? spt::SamplerKind::sobol
+                                                                      : spt::SamplerKind::independent;
     spt::RenderStats stats;
     stats.samples_completed = merged.samples;
     std::vector<spt::ExrAttribute> metadata = spt::render_metadata(opt, rs, stats, merged.film->observer());

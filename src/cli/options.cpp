@@ -122,9 +122,9 @@ Options:
                          analytic spectra at each wavelength (default 16)
   --threads T            worker threads (1 to 1024; default: all cores)
   --seed S               random seed (0 to 2^64-1; default 0); same seed, same image
-  --sampler NAME         independent (default: PCG32 numbers) or sobol (Owen-scrambled
-                         Sobol points per pixel, each number at a fixed dimension; path
-                         integrator throughout, bdpt and vcm for the camera sample only)
+  --sampler NAME         sobol (default: Owen-scrambled Sobol points per pixel, each number
+                         at a fixed dimension; the path integrator throughout, bdpt, vcm
+                         and media for the camera sample only) or independent (PCG32)
                          On SIGINT/SIGTERM the unfinished image is written beside each
                          output X.ext as X.partial.ext (X.ext is left as it was) and the
                          program exits with status 130/143.

@@ -15,6 +15,10 @@ namespace spt {
 /// sample (pixel position, wavelength, lens, time) from it and the rest from its PCG stream.
 enum class SamplerKind { independent, sobol };
 
+/// The default: at equal samples it has the lower error on cornell, cornell-point and
+/// cornell-sphere at 16, 64 and 256 spp (by 1.1x to 2x; validation/results/sampler_convergence.md).
+inline constexpr SamplerKind kDefaultSampler = SamplerKind::sobol;
+
 constexpr const char* sampler_name(SamplerKind kind) {
     return kind == SamplerKind::sobol ? "sobol" : "independent";
 }
