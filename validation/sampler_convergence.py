@@ -15,7 +15,7 @@ with the independent sampler as two halves of different seeds:
   must be re-measured on a quiet machine before efficiency (1 / (relMSE * time)) is judged.
 
     VENV=$(bash validation/setup_venv.sh)
-    $VENV/bin/python validation/sampler_convergence.py --quick   # smoke test, ~20 s
+    $VENV/bin/python validation/sampler_convergence.py --quick   # smoke test, a few seconds
     $VENV/bin/python validation/sampler_convergence.py           # full run, a few minutes on 2 cores
 """
 
@@ -118,7 +118,7 @@ def report(results: dict, args) -> str:
 def parse_args(argv):
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--program", default=str(REPO_ROOT / "build" / "pathtracer"))
-    p.add_argument("--quick", action="store_true", help="small smoke run (~20 s)")
+    p.add_argument("--quick", action="store_true", help="small smoke run (a few seconds)")
     p.add_argument("--threads", type=int, default=2)
     p.add_argument("--scenes", nargs="+", default=SCENES)
     p.add_argument("--out", default=str(REPO_ROOT / "validation" / "results" / "sampler_convergence.md"))

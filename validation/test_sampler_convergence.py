@@ -1,4 +1,4 @@
-"""Smoke test of validation/sampler_convergence.py: ``--quick`` into a temporary file (~30 s).
+"""Smoke test of validation/sampler_convergence.py: ``--quick`` into a temporary file (a few seconds).
 
 Checks that the report has a row per scene and spp with finite positive errors for both
 samplers and a slope per scene. The numbers themselves are the full run's job
