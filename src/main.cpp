@@ -179,6 +179,7 @@ int run(const spt::Options& opt) {
     rs.height = size.height;
     rs.spp = opt.spp.value_or(scene->spp);
     rs.seed = opt.seed;
+    rs.sampler = opt.sampler;
     rs.threads = opt.threads > 0 ? opt.threads
                                  : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
     rs.integrator = integrator.settings;
@@ -214,6 +215,7 @@ int run(const spt::Options& opt) {
     const spt::IntegratorKind kind = rs.integrator.kind;
     const std::string variant = "wavelengths-per-path=" + std::to_string(opt.wavelengths_per_path) +
                                 light_sampling[static_cast<int>(rs.integrator.light_sampling)] +
+                                (rs.sampler == spt::SamplerKind::sobol ? " sampler=sobol" : "") +
                                 " dispersion=" + (opt.dispersion ? "on" : "off") +
                                 (kind == spt::IntegratorKind::path ? std::string()
                                     : std::string(" integrator=") + spt::integrator_name(kind)) +
@@ -385,6 +387,8 @@ int run_merge(const std::vector<std::string>& args) {
         if (variant.find(std::string(" integrator=") + spt::integrator_name(kind)) != std::string::npos)
             rs.integrator.kind = kind;
     rs.integrator.wavelengths_per_path = variant.starts_with("wavelengths-per-path=1") ? 1 : 4;
+    rs.sampler = variant.find(" sampler=sobol") != std::string::npos ? spt::SamplerKind::sobol
+                                                                      : spt::SamplerKind::independent;
     spt::RenderStats stats;
     stats.samples_completed = merged.samples;
     std::vector<spt::ExrAttribute> metadata = spt::render_metadata(opt, rs, stats, merged.film->observer());

@@ -216,6 +216,46 @@ TEST_F(Checkpoint, CorruptCheckpointIsRefusedWithAClearError) {
     EXPECT_FALSE(fs::exists(dir / "b.pfm"));
 }
 
+/// The Sobol sampler's numbers are a function of (seed, pixel, sample, dimension): a resumed
+/// render is the straight one, on a pinhole scene and with lens and shutter dimensions.
+TEST_F(Checkpoint, ResumedSobolRendersEqualStraightRuns) {
+    for (const std::string scene : {"cornell", "bokeh", "motion"}) {
+        auto args_for = [&](const std::string& out) {
+            std::vector<std::string> args = base_args(out);
+            args.insert(args.begin(), scene);
+            args.insert(args.end(), {"--sampler", "sobol", "--integrator", "path"});
+            return args;
+        };
+        ASSERT_EQ(run(args_for("straight.pfm"), dir / "log"), 0) << read_file(dir / "log");
+        std::vector<std::string> args = args_for("resumed.pfm");
+        const std::string ck = (dir / "state.ckpt").string();
+        fs::remove(ck);
+        args.insert(args.end(), {"--checkpoint", ck, "--checkpoint-interval", "0"});
+        const pid_t pid = spawn(args, dir / "log");
+        std::this_thread::sleep_for(std::chrono::milliseconds(150));
+        kill(pid, SIGINT);
+        wait_exit(pid);
+        ASSERT_TRUE(fs::exists(ck)) << scene;
+        args.insert(args.end(), {"--resume", ck});
+        ASSERT_EQ(run(args, dir / "log"), 0) << read_file(dir / "log");
+        EXPECT_EQ(read_file(dir / "straight.pfm"), read_file(dir / "resumed.pfm")) << scene;
+    }
+}
+
+/// A checkpoint of one sampler does not continue with the other: the message names it.
+TEST_F(Checkpoint, ResumeWithTheOtherSamplerIsRefused) {
+    const std::string ck = (dir / "state.ckpt").string();
+    std::vector<std::string> args = base_args("a.pfm");
+    args.insert(args.end(), {"--checkpoint", ck, "--sampler", "sobol"});
+    ASSERT_EQ(run(args, dir / "log"), 0);
+    std::vector<std::string> resume = base_args("b.pfm");
+    resume.insert(resume.end(), {"--sampler", "independent", "--resume", ck});
+    EXPECT_EQ(run(resume, dir / "log"), 1);
+    const std::string log = read_file(dir / "log");
+    EXPECT_NE(log.find("sampler=sobol"), std::string::npos) << log;
+    EXPECT_FALSE(fs::exists(dir / "b.pfm"));
+}
+
 TEST_F(Checkpoint, ResumeWithOtherSettingsIsRefused) {
     const std::string ck = (dir / "state.ckpt").string();
     std::vector<std::string> args = base_args("a.pfm");

@@ -229,6 +229,8 @@ TEST_F(Cli, BadArgumentsExitTwoWithOneLineNamingTheFlag) {
         {{"--integrator", "foo"}, {"--integrator", "foo", "vcm"}},
         {{"--integrator", "bdtp"}, {"--integrator", "Did you mean \"bdpt\"?"}},
         {{"--light-sampling", "mix"}, {"--light-sampling", "Did you mean \"mis\"?"}},
+        {{"--sampler", "sobel"}, {"--sampler", "independent or sobol", "Did you mean \"sobol\"?"}},
+        {{"--sampler"}, {"--sampler"}},
         {{"--sp", "3"}, {"--sp", "Did you mean \"--spp\"?"}},
         {{"--integrater=vcm"}, {"--integrater", "Did you mean \"--integrator\"?"}},
         {{"cornel-point"}, {"cornel-point", "Did you mean \"cornell-point\"?"}},

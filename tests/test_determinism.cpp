@@ -51,16 +51,19 @@ std::size_t count_differences(const Film& a, const Film& b) {
 }
 
 TEST(Determinism, ThreadCountDoesNotChangeTheFilm) {
-    for (const Scene* scene : {&cornell(), &cornell_point()}) {
-        RenderSettings rs = base_settings();
-        const auto one = test::render_film(*scene, rs);
-        ASSERT_GT(test::image_mean_y(*one).mean, 0.0);
-        for (const int threads : {2, 7}) {
-            rs.threads = threads;
-            const auto many = test::render_film(*scene, rs);
-            EXPECT_EQ(count_differences(*one, *many), 0u) << scene->name << ", " << threads << " threads";
+    for (const Scene* scene : {&cornell(), &cornell_point()})
+        for (const SamplerKind sampler : kSamplerKinds) {
+            RenderSettings rs = base_settings();
+            rs.sampler = sampler;
+            const auto one = test::render_film(*scene, rs);
+            ASSERT_GT(test::image_mean_y(*one).mean, 0.0);
+            for (const int threads : {2, 7}) {
+                rs.threads = threads;
+                const auto many = test::render_film(*scene, rs);
+                EXPECT_EQ(count_differences(*one, *many), 0u)
+                    << scene->name << ", " << threads << " threads, " << sampler_name(sampler);
+            }
         }
-    }
 }
 
 TEST(Determinism, RepeatedRenderIsIdentical) {
@@ -72,25 +75,28 @@ TEST(Determinism, RepeatedRenderIsIdentical) {
 }
 
 TEST(Determinism, TileAndPassSizesDoNotChangeTheFilm) {
-    RenderSettings rs = base_settings();
-    rs.threads = 2;
-    rs.tile_size = 32;
-    rs.pass_spp = 8;
-    const auto reference = test::render_film(cornell(), rs);
-    struct Variant {
-        int tile_size, pass_spp;
-    };
-    for (const Variant v : {Variant{8, 8}, Variant{32, 1}, Variant{8, 1}, Variant{5, 3}, Variant{1, 8},
-                            Variant{64, 0}}) {
-        rs.tile_size = v.tile_size;
-        rs.pass_spp = v.pass_spp;
-        RenderStats stats;
-        const auto film = test::render_film(cornell(), rs, &stats);
-        EXPECT_EQ(count_differences(*reference, *film), 0u)
-            << "tile " << v.tile_size << ", pass " << v.pass_spp;
-        EXPECT_EQ(stats.paths, 32u * 32u * 8u);
-        if (v.pass_spp > 0) {
-            EXPECT_EQ(stats.passes_total, (8 + v.pass_spp - 1) / v.pass_spp);
+    for (const SamplerKind sampler : kSamplerKinds) {
+        RenderSettings rs = base_settings();
+        rs.sampler = sampler;
+        rs.threads = 2;
+        rs.tile_size = 32;
+        rs.pass_spp = 8;
+        const auto reference = test::render_film(cornell(), rs);
+        struct Variant {
+            int tile_size, pass_spp;
+        };
+        for (const Variant v : {Variant{8, 8}, Variant{32, 1}, Variant{8, 1}, Variant{5, 3}, Variant{1, 8},
+                                Variant{64, 0}}) {
+            rs.tile_size = v.tile_size;
+            rs.pass_spp = v.pass_spp;
+            RenderStats stats;
+            const auto film = test::render_film(cornell(), rs, &stats);
+            EXPECT_EQ(count_differences(*reference, *film), 0u)
+                << "tile " << v.tile_size << ", pass " << v.pass_spp << ", " << sampler_name(sampler);
+            EXPECT_EQ(stats.paths, 32u * 32u * 8u);
+            if (v.pass_spp > 0) {
+                EXPECT_EQ(stats.passes_total, (8 + v.pass_spp - 1) / v.pass_spp);
+            }
         }
     }
 }

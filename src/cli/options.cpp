@@ -69,7 +69,7 @@ const std::vector<std::string>& known_flags() {
         "--spectral-range", "--sensor", "--preview-interval", "--display-server", "--threads", "--seed",
         "--checkpoint", "--resume", "--checkpoint-interval", "--time-limit", "--wavelengths-per-path",
         "--integrator", "--light-sampling", "--merge-radius", "--no-dispersion", "--pass-spp", "--max-depth",
-        "--passes", "--print-passes"};
+        "--passes", "--print-passes", "--sampler"};
     return flags;
 }
 
@@ -122,6 +122,9 @@ Options:
                          analytic spectra at each wavelength (default 16)
   --threads T            worker threads (1 to 1024; default: all cores)
   --seed S               random seed (0 to 2^64-1; default 0); same seed, same image
+  --sampler NAME         sobol (default: Owen-scrambled Sobol points per pixel, each number
+                         at a fixed dimension; the path integrator throughout, bdpt, vcm
+                         and media for the camera sample only) or independent (PCG32)
                          On SIGINT/SIGTERM the unfinished image is written beside each
                          output X.ext as X.partial.ext (X.ext is left as it was) and the
                          program exits with status 130/143.
@@ -322,6 +325,13 @@ Options parse_options(const std::vector<std::string>& args) {
             if (!o.integrator)
                 throw UsageError(flag + ": expected path, bdpt or vcm, got '" + v + "'." +
                                  suggestion(v, integrator_names()));
+        } else if (flag == "--sampler") {
+            const std::string v = next_value();
+            const std::optional<SamplerKind> kind = sampler_from_name(v);
+            if (!kind)
+                throw UsageError(flag + ": expected independent or sobol, got '" + v + "'." +
+                                 suggestion(v, sampler_names()));
+            o.sampler = *kind;
         } else if (flag == "--light-sampling") {
             const std::string v = next_value();
             o.light_sampling = light_sampling_from_name(v);

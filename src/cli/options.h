@@ -12,6 +12,7 @@
 #include "io/tone_map.h"
 #include "io/tev_client.h"
 #include "render/integrator.h"
+#include "render/sampler_kind.h"
 #include "spectral/chromatic_adaptation.h"
 #include "spectral/spectral_bands.h"
 #include "spectral/spectrum.h"
@@ -41,6 +42,7 @@ struct Options {
     std::optional<LightSampling> light_sampling;    ///< path: how emitters are found (default mis)
     std::optional<double> merge_radius;             ///< vcm's first radius (default: automatic)
     int wavelengths_per_path = 4;  ///< 1 or 4
+    SamplerKind sampler = kDefaultSampler;  ///< --sampler
     bool dispersion = true;        ///< false: dispersive glass gets its mean index
     int pass_spp = 0;  ///< samples per pass (0: automatic); does not change the image
     double exposure = 0.0;

@@ -35,6 +35,7 @@ std::vector<ExrAttribute> render_metadata(const Options& opt, const RenderSettin
         ExrAttribute::integer("sppRequested", rs.spp),
         ExrAttribute::text("integrator", integrator_name(rs.integrator.kind)),
         ExrAttribute::text("seed", std::to_string(rs.seed)),
+        ExrAttribute::text("sampler", sampler_name(rs.sampler)),
         ExrAttribute::real("renderTimeSeconds", stats.seconds),
         ExrAttribute::text("capDate", utc_cap_date()),
         {"utcOffset", "float", std::string(4, '\0')},  // +0.0f: capDate is UTC

@@ -4,6 +4,8 @@
 // vertex it left from.
 #include "render/integrator.h"
 
+#include "core/sample_dimensions.h"
+#include "core/sobol_sampler.h"
 #include "model/bsdfs/bsdf.h"
 #include "render/light_context.h"
 #include "render/mis.h"
@@ -102,11 +104,13 @@ struct NoScratch {};
 
 /// The path loop. kTextured (scenes with textures only): materials with textures take their
 /// BSDF from the scene at each hit, and emitters their radiance; without, this is the loop
-/// of before, unchanged.
-template <bool kTextured>
+/// of before, unchanged. Sampler: Rng (independent numbers, drawn in sequence) or
+/// SobolSampler (each number from its dimension of core/sample_dimensions.h; for Rng the
+/// seek_dimension calls are no-ops and the loop is the one of before).
+template <bool kTextured, class Sampler>
 [[gnu::always_inline]] inline SampledSpectrum path_loop(const Scene& scene, const IntegratorSettings& settings,
                                                         Ray ray, float time, SampledWavelengths& lambda,
-                                                        Rng& rng, PathStats& stats) {
+                                                        Sampler& rng, PathStats& stats) {
     // Where a textured material's BSDF is made at each hit (kept across bounces: no allocation).
     [[maybe_unused]] std::conditional_t<kTextured, Bsdf, NoScratch> scratch;
     SampledSpectrum L(0.f), beta(1.f);
@@ -159,12 +163,14 @@ template <bool kTextured>
         LightSampleContext ctx;
         if (area_nee && non_delta) {
             ctx = light_context(*hit, mat, wo);
+            seek_dimension(rng, dims::bounce(depth, dims::kLightChoice));
             const float ul = rng.uniform(), ul1 = rng.uniform(), ul2 = rng.uniform();
             L += beta * sample_area_light<kTextured>(scene, choices, bsdf, *hit, ctx, wo, lambda, time, ul, ul1, ul2,
                                           settings.light_sampling == LightSampling::mis, stats);
         }
 
         // ---- Continue the path ----
+        seek_dimension(rng, dims::bounce(depth, dims::kBsdfLobe));
         const float u_lobe = rng.uniform(), u1 = rng.uniform(), u2 = rng.uniform();
         const std::optional<BsdfSample> bs =
             bsdf_sample(bsdf, wo, hit->ns, lambda, u_lobe, u1, u2, TransportMode::radiance);
@@ -188,6 +194,7 @@ template <bool kTextured>
         // lossless paths (mirrors, albedo 1) still end ----
         if (settings.roulette && depth + 1 >= settings.roulette_depth) {
             const float survive = std::min(0.95f, beta.max_value() * eta_scale);
+            seek_dimension(rng, dims::bounce(depth, dims::kRoulette));
             if (!(rng.uniform() < survive)) break;
             beta /= survive;
         }
@@ -195,8 +202,10 @@ template <bool kTextured>
     return L;
 }
 
+template <class Sampler>
 [[gnu::noinline]] SampledSpectrum textured_path(const Scene& scene, const IntegratorSettings& settings, Ray ray,
-                                                float time, SampledWavelengths& lambda, Rng& rng, PathStats& stats) {
+                                                float time, SampledWavelengths& lambda, Sampler& rng,
+                                                PathStats& stats) {
     return path_loop<true>(scene, settings, ray, time, lambda, rng, stats);
 }
 
@@ -215,5 +224,13 @@ template <bool kTextured>
     return path_loop<false>(scene, settings, ray, time, lambda, rng, stats);
 }
 #pragma GCC diagnostic pop
+
+// Out of line: the independent sampler's loop above keeps its inlining and registers.
+[[gnu::noinline]] SampledSpectrum trace_path(const Scene& scene, const IntegratorSettings& settings, Ray ray,
+                                             float time, SampledWavelengths& lambda, SobolSampler& sampler,
+                                             PathStats& stats) {
+    if (scene.effects.textures) [[unlikely]] return textured_path(scene, settings, ray, time, lambda, sampler, stats);
+    return path_loop<false>(scene, settings, ray, time, lambda, sampler, stats);
+}
 
 }  // namespace spt

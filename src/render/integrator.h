@@ -8,6 +8,7 @@
 #include <string_view>
 
 #include "core/rng.h"
+#include "core/sobol_sampler.h"
 #include "render/integrator_kind.h"
 #include "scene/scene.h"
 #include "spectral/sampled.h"
@@ -45,5 +46,9 @@ struct PathStats {
 /// trace_volumetric_path, render/volumetric_path.h).
 SampledSpectrum trace_path(const Scene& scene, const IntegratorSettings& settings, Ray ray, float time,
                            SampledWavelengths& lambda, Rng& rng, PathStats& stats);
+/// The same with the low-discrepancy sampler (core/sobol_sampler.h): the same estimate, each
+/// random number from its dimension of core/sample_dimensions.h.
+SampledSpectrum trace_path(const Scene& scene, const IntegratorSettings& settings, Ray ray, float time,
+                           SampledWavelengths& lambda, SobolSampler& sampler, PathStats& stats);
 
 }  // namespace spt

@@ -1,5 +1,6 @@
-// Tile scheduling. Determinism: every sample draws from its own Rng(seed, pixel, sample) and
-// each pixel adds its samples in sample order, so the film does not depend on the threads.
+// Tile scheduling. Determinism: every sample draws from its own Rng(seed, pixel, sample) (or
+// SobolSampler, a function of the same three) and each pixel adds its samples in sample order,
+// so the film does not depend on the threads.
 #include "render/renderer.h"
 
 #include <chrono>
@@ -9,6 +10,7 @@
 #include <thread>
 #include <vector>
 
+#include "core/sample_dimensions.h"
 #include "render/bdpt.h"
 #include "render/light_sampling.h"
 #include "render/vertex_merging.h"
@@ -76,11 +78,13 @@ private:
 /// The start of every path sample, shared by both integrators so they draw identical numbers:
 /// Rng(seed, pixel, sample), then the wavelengths, then the jitter inside the pixel, then
 /// (thin lens only) the lens point, then (motion blur only) the shutter time: scenes without
-/// an effect draw nothing for it.
+/// an effect draw nothing for it. Sampler: Rng, or SobolSampler, which takes each of these
+/// from its dimension (core/sample_dimensions.h; the seeks are no-ops for Rng).
 /// The camera ray is left to the caller (ray() as the integrator's argument): built in place
 /// there, it is not copied through memory in pieces, which stalls the first intersection.
+template <class Sampler>
 struct PixelSample {
-    Rng rng;
+    Sampler rng;
     SampledWavelengths lambda;
     float px, py;                      ///< film position of the sample
     float lens_u = 0.f, lens_v = 0.f;  ///< thin lens: the lens point's uniform numbers
@@ -92,27 +96,35 @@ struct PixelSample {
 /// The lens point and the shutter time of a sample, for the scenes that have either. Out of
 /// line: inlined, the lens sampling grew the render loop past what GCC inlines whole, and the
 /// pinhole path lost 4.6 % on cornell.
-[[gnu::noinline]] PixelSample start_lens_and_time(Rng rng, const SampledWavelengths& lambda, float px, float py,
-                                                  const Camera& camera) {
-    PixelSample ps{rng, lambda, px, py};
+template <class Sampler>
+[[gnu::noinline]] PixelSample<Sampler> start_lens_and_time(Sampler rng, const SampledWavelengths& lambda, float px,
+                                                           float py, const Camera& camera) {
+    PixelSample<Sampler> ps{rng, lambda, px, py};
     ps.time = camera.shutter_open();
     if (camera.thin_lens()) {
+        seek_dimension(ps.rng, dims::kLensU);
         ps.lens_u = ps.rng.uniform();
         ps.lens_v = ps.rng.uniform();
     }
-    if (camera.motion_blur()) ps.time = camera.shutter_time(ps.rng.uniform());
+    if (camera.motion_blur()) {
+        seek_dimension(ps.rng, dims::kTime);
+        ps.time = camera.shutter_time(ps.rng.uniform());
+    }
     return ps;
 }
 inline RngStream pixel_stream(const RenderSettings& settings, int x, int y) {
     return RngStream(settings.seed, std::uint64_t(y) * settings.width + x);
 }
-inline PixelSample start_pixel_sample(const RngStream& stream, int x, int y, int s,
-                                      const RenderSettings& settings, const Camera& camera) {
-    Rng rng(stream, static_cast<std::uint64_t>(s));
+template <class Sampler>
+inline PixelSample<Sampler> start_pixel_sample(const RngStream& stream, int x, int y, int s,
+                                               const RenderSettings& settings, const Camera& camera) {
+    Sampler rng(stream, static_cast<std::uint64_t>(s));
+    seek_dimension(rng, dims::kWavelength);
     const float u = rng.uniform();
     SampledWavelengths lambda = settings.wide_wavelengths ? settings.wide_wavelengths->sample(u)
                                                           : SampledWavelengths::sample(u);
     if (settings.integrator.wavelengths_per_path == 1) lambda.terminate_secondary();
+    seek_dimension(rng, dims::kPixelX);
     const float px = static_cast<float>(x) + rng.uniform();
     const float py = static_cast<float>(y) + rng.uniform();
     if (!camera.thin_lens() && !camera.motion_blur()) return {rng, lambda, px, py, 0.f, 0.f, camera.shutter_open()};
@@ -120,15 +132,18 @@ inline PixelSample start_pixel_sample(const RngStream& stream, int x, int y, int
 }
 
 /// render_pixel for bidirectional path tracing: the same samples (Rng, wavelengths, jitter),
-/// the camera-side estimate to the pixel and the light-to-camera splats to `splats`.
+/// the camera-side estimate to the pixel and the light-to-camera splats to `splats`. With the
+/// Sobol sampler, the camera sample is Sobol's and the subpaths draw from its PCG stream.
+template <class Sampler>
 void render_pixel_bdpt(const BdptContext& ctx, const RenderSettings& settings, int x, int y,
                        int first_sample, int end_sample, Film& film, PathStats& stats,
                        std::vector<Splat>& splats) {
     const RngStream stream = pixel_stream(settings, x, y);
     int chunk_end = next_chunk_end(settings, first_sample);
     for (int s = first_sample; s < end_sample; ++s) {
-        PixelSample ps = start_pixel_sample(stream, x, y, s, settings, ctx.camera);
-        const SampledSpectrum L = trace_bdpt(ctx, ps.ray(ctx.camera), ps.time, ps.lambda, ps.rng, stats, splats);
+        PixelSample ps = start_pixel_sample<Sampler>(stream, x, y, s, settings, ctx.camera);
+        const SampledSpectrum L =
+            trace_bdpt(ctx, ps.ray(ctx.camera), ps.time, ps.lambda, pcg_stream(ps.rng), stats, splats);
         film.add_sample(x, y, L, ps.lambda);
         if (s + 1 == chunk_end) film.fold_pixel(x, y), chunk_end = next_chunk_end(settings, chunk_end);
     }
@@ -190,21 +205,28 @@ public:
     /// Camera phase of a tile: each pixel's sample (Rng and jitter as the other integrators,
     /// the pass's wavelengths instead of its own), connected to light subpath y·width + x.
     void render_tile(const TileTask& task, Film& film, PathStats& stats) const {
+        if (m_settings.sampler == SamplerKind::sobol) render_tile<SobolSampler>(task, film, stats);
+        else render_tile<Rng>(task, film, stats);
+    }
+
+private:
+    template <class Sampler>
+    void render_tile(const TileTask& task, Film& film, PathStats& stats) const {
         const MergeContext mc = m_pass.context();
         const bool chunk_ends = next_chunk_end(m_settings, task.first_sample) == task.first_sample + 1;
         for (int y = task.y0; y < task.y1; ++y)
             for (int x = task.x0; x < task.x1; ++x) {
                 const int s = task.first_sample;
-                PixelSample ps = start_pixel_sample(pixel_stream(m_settings, x, y), x, y, s, m_settings, m_ctx.camera);
+                PixelSample ps =
+                    start_pixel_sample<Sampler>(pixel_stream(m_settings, x, y), x, y, s, m_settings, m_ctx.camera);
                 const auto light_path = static_cast<std::uint32_t>(y * m_settings.width + x);
-                const SampledSpectrum L =
-                    trace_camera_subpath(m_ctx, mc, light_path, ps.ray(m_ctx.camera), m_lambda, ps.rng, stats);
+                const SampledSpectrum L = trace_camera_subpath(m_ctx, mc, light_path, ps.ray(m_ctx.camera), m_lambda,
+                                                               pcg_stream(ps.rng), stats);
                 film.add_sample(x, y, L, m_lambda);
                 if (chunk_ends) film.fold_pixel(x, y);
             }
     }
 
-private:
     const BdptContext& m_ctx;
     const RenderSettings& m_settings;
     float m_first_radius;
@@ -271,32 +293,53 @@ int next_chunk_end(const RenderSettings& s, int samples) {
 }
 
 /// The samples [first_sample, end_sample) of pixel (x, y), each traced by `trace`.
-template <typename Trace>
+template <class Sampler, typename Trace>
 [[gnu::always_inline]] inline void render_samples(const Trace& trace, const RenderSettings& settings,
                                                   const Camera& camera, int x, int y, int first_sample,
                                                   int end_sample, Film& film) {
     const RngStream stream = pixel_stream(settings, x, y);
     int chunk_end = next_chunk_end(settings, first_sample);
     for (int s = first_sample; s < end_sample; ++s) {
-        PixelSample ps = start_pixel_sample(stream, x, y, s, settings, camera);
+        PixelSample ps = start_pixel_sample<Sampler>(stream, x, y, s, settings, camera);
         const SampledSpectrum L = trace(ps.ray(camera), ps.time, ps.lambda, ps.rng);
         film.add_sample(x, y, L, ps.lambda);
         if (s + 1 == chunk_end) film.fold_pixel(x, y), chunk_end = next_chunk_end(settings, chunk_end);
     }
 }
 
+/// render_pixel with the Sobol sampler: the path integrator takes every dimension from it, the
+/// volumetric one the camera sample (and the rest from its PCG stream). Out of line, so the
+/// independent sampler's loop below is the one of before.
+[[gnu::noinline]] void render_pixel_sobol(const Scene& scene, const RenderSettings& settings, const Camera& camera,
+                                          int x, int y, int first_sample, int end_sample, Film& film,
+                                          PathStats& stats) {
+    if (scene.effects.media) {
+        render_samples<SobolSampler>([&](const Ray& ray, float, SampledWavelengths& lambda, SobolSampler& sampler) {
+            return trace_volumetric_path(scene, settings.integrator, ray, lambda, pcg_stream(sampler), stats);
+        }, settings, camera, x, y, first_sample, end_sample, film);
+        return;
+    }
+    render_samples<SobolSampler>([&](const Ray& ray, float time, SampledWavelengths& lambda, SobolSampler& sampler) {
+        return trace_path(scene, settings.integrator, ray, time, lambda, sampler, stats);
+    }, settings, camera, x, y, first_sample, end_sample, film);
+}
+
 void render_pixel(const Scene& scene, const RenderSettings& settings, const Camera& camera, int x,
                   int y, int first_sample, int end_sample, Film& film, PathStats& stats) {
+    if (settings.sampler == SamplerKind::sobol) [[unlikely]] {
+        render_pixel_sobol(scene, settings, camera, x, y, first_sample, end_sample, film, stats);
+        return;
+    }
     // Scenes with media take the volumetric path tracer, chosen once per pixel: the surface
     // loop below is the one of before, for scenes without media.
     if (scene.effects.media) [[unlikely]] {
         // (Scene::finalize refuses media with motion blur: the time is the shutter's opening.)
-        render_samples([&](const Ray& ray, float, SampledWavelengths& lambda, Rng& rng) {
+        render_samples<Rng>([&](const Ray& ray, float, SampledWavelengths& lambda, Rng& rng) {
             return trace_volumetric_path(scene, settings.integrator, ray, lambda, rng, stats);
         }, settings, camera, x, y, first_sample, end_sample, film);
         return;
     }
-    render_samples([&](const Ray& ray, float time, SampledWavelengths& lambda, Rng& rng) {
+    render_samples<Rng>([&](const Ray& ray, float time, SampledWavelengths& lambda, Rng& rng) {
         return trace_path(scene, settings.integrator, ray, time, lambda, rng, stats);
     }, settings, camera, x, y, first_sample, end_sample, film);
 }
@@ -360,10 +403,12 @@ RenderStats render(const Scene& scene, const RenderSettings& settings, Film& fil
                     if (vcm) {
                         vcm_passes->render_tile(*task, film, local);
                     } else if (bdpt) {
+                        const auto render = settings.sampler == SamplerKind::sobol ? render_pixel_bdpt<SobolSampler>
+                                                                                   : render_pixel_bdpt<Rng>;
                         for (int y = task->y0; y < task->y1; ++y)
                             for (int x = task->x0; x < task->x1; ++x)
-                                render_pixel_bdpt(*bidir, settings, x, y, task->first_sample,
-                                                  task->end_sample, film, local, splats);
+                                render(*bidir, settings, x, y, task->first_sample, task->end_sample, film, local,
+                                       splats);
                     } else {
                         for (int y = task->y0; y < task->y1; ++y)
                             for (int x = task->x0; x < task->x1; ++x)

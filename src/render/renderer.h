@@ -8,6 +8,7 @@
 
 #include "render/film.h"
 #include "render/integrator.h"
+#include "render/sampler_kind.h"
 #include "scene/scene.h"
 #include "spectral/wavelength_range.h"
 
@@ -36,6 +37,7 @@ struct RenderSettings {
     /// would end after this. The first pass always runs, so the image has samples.
     double time_limit = 0;
     IntegratorSettings integrator;
+    SamplerKind sampler = kDefaultSampler;  ///< the random numbers of each path sample
     /// Set only for spectral output beyond 360-830 nm (path integrator): wavelengths are then
     /// drawn from this wider density instead of the visible one.
     std::optional<WideWavelengthSampling> wide_wavelengths;
