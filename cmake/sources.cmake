@@ -43,8 +43,11 @@ set(SPT_CORE_SOURCES
     src/render/film.cpp
     src/render/integrator.cpp
     src/render/light_sampling.cpp
+    src/render/pixel_sample.cpp
     src/render/renderer.cpp
+    src/render/tile_grid.cpp
     src/render/volumetric_path.cpp
+    src/render/wavefront.cpp
     src/scene/builtin_scenes.cpp
     src/scene/effects.cpp
     src/scene/json_checker.cpp
