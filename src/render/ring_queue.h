@@ -15,8 +15,8 @@
 namespace spt {
 
 /// Same contract as MutexQueue. `capacity` is rounded up to a power of two; a push that finds
-/// the ring full yields until a consumer frees a cell (the renderer sizes the ring to hold a
-/// whole pass, so it does not wait there).
+/// the ring full wakes the consumers and yields until one frees a cell (the renderer sizes
+/// the ring to hold a pass of up to 65536 tasks, so it waits only past that).
 ///
 /// Why it is correct under the C++ memory model: cell i of lap k has sequence k·N + i when
 /// free for the producer and k·N + i + 1 when it holds an item. Positions are claimed by CAS
@@ -40,9 +40,13 @@ public:
 
     void push(std::span<const T> items) {
         for (const T& item : items)
-            while (!try_push(item)) std::this_thread::yield();
-        m_epoch.fetch_add(1, std::memory_order_release);
-        m_epoch.notify_all();
+            while (!try_push(item)) {
+                // Full: wake the consumers for what is in (they may have gone to sleep on an
+                // empty ring before this batch), then give them the core.
+                publish();
+                std::this_thread::yield();
+            }
+        publish();
     }
 
     /// Blocks until an item is available; nullopt once the queue is closed and empty.
@@ -58,8 +62,7 @@ public:
 
     void close() {
         m_closed.store(true, std::memory_order_release);
-        m_epoch.fetch_add(1, std::memory_order_release);
-        m_epoch.notify_all();
+        publish();
     }
 
     /// One attempt: false when the ring is full.
@@ -105,6 +108,11 @@ public:
     }
 
 private:
+    /// Makes the items pushed so far visible to sleeping consumers.
+    void publish() {
+        m_epoch.fetch_add(1, std::memory_order_release);
+        m_epoch.notify_all();
+    }
     struct Cell {
         std::atomic<std::size_t> seq;
         T item{};
