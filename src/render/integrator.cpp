@@ -5,18 +5,10 @@
 #include "render/integrator.h"
 
 #include "model/bsdfs/bsdf.h"
-#include "render/direct_light.h"
 #include "render/light_context.h"
+#include "render/mis.h"
 
 namespace spt {
-
-[[gnu::noinline]] float emission_weight(const Scene& scene, const LightDistribution& choices, int index,
-                                        const LightSampleContext& prev, float pdf_bsdf, const Vec3& wi,
-                                        const Hit* hit) {
-    const float choice = choices.probability(index);
-    if (choice == 0.f) return 1.f;  // a light that next-event estimation never samples
-    return power_heuristic(pdf_bsdf, choice * light_pdf_li(scene.lights[index], prev, wi, hit));
-}
 
 namespace {
 
@@ -30,19 +22,26 @@ namespace {
     SampledSpectrum Ld(0.f);
     for (int i : scene.point_light_indices) {
         const PointLight& light = *std::get_if<PointLight>(&scene.lights[i]);
-        const std::optional<PointLightRay> r = point_light_ray(light, bsdf, hit, wo, lambda, time);
-        if (!r) continue;
+        const Vec3 position = light.position_at(time);
+        const Vec3 to_light = position - hit.p;
+        const float dist2 = length_squared(to_light);
+        if (!(dist2 > 0.f)) continue;  // light exactly on the surface: no defined direction
+        const Vec3 wi = to_light / std::sqrt(dist2);
+        const SampledSpectrum f_cos = bsdf_eval(bsdf, wo, wi, hit.ns, lambda, TransportMode::radiance);
+        if (f_cos.is_zero()) continue;
         ++stats.rays;
-        if (scene.occluded(r->shadow, -1, time)) continue;
-        Ld += point_light_contribution(light, *r, lambda);
+        if (scene.occluded(spawn_ray_to(hit, position), -1, time)) continue;
+        Ld += f_cos * light.intensity.sample(lambda) / dist2;
     }
     for (int i : scene.spot_light_indices) {
-        const std::optional<SpotLightRay> r =
-            spot_light_ray(*std::get_if<SpotLight>(&scene.lights[i]), bsdf, hit, wo, lambda);
-        if (!r) continue;
+        const std::optional<LightSample> ls = std::get_if<SpotLight>(&scene.lights[i])->sample_li(
+            {hit.p, hit.p_err, hit.n, hit.ns, false}, lambda);
+        if (!ls) continue;
+        const SampledSpectrum f_cos = bsdf_eval(bsdf, wo, ls->wi, hit.ns, lambda, TransportMode::radiance);
+        if (f_cos.is_zero()) continue;
         ++stats.rays;
-        if (scene.occluded(r->shadow, -1, time)) continue;
-        Ld += r->f_cos * r->L;
+        if (scene.occluded(spawn_ray_to(hit, ls->p), -1, time)) continue;
+        Ld += f_cos * ls->L;
     }
     return Ld;
 }
@@ -51,18 +50,52 @@ namespace {
 /// weighted against BSDF sampling by the power heuristic (Veach 1997, §9.2). Flattened (all
 /// its callees inlined into it, the shadow ray's offsets above all): out of line, they took
 /// 13 % of the time per path on cornell-sphere; the path loop, which calls it, stays small.
-/// kTextured: the scene has textures (see area_light_ray).
+/// kTextured: the scene has textures, and a light with an emission texture gives the
+/// texture's radiance at the sampled point.
 template <bool kTextured>
 [[gnu::noinline, gnu::flatten]] SampledSpectrum sample_area_light(
     const Scene& scene, const LightDistribution& choices, const Bsdf& bsdf, const Hit& hit,
     const LightSampleContext& ctx, const Vec3& wo, const SampledWavelengths& lambda, float time, float u_light,
     float u1, float u2, bool mis, PathStats& stats) {
-    const std::optional<AreaLightRay> r =
-        area_light_ray<kTextured>(scene, choices, bsdf, hit, ctx, wo, lambda, u_light, u1, u2);
-    if (!r) return SampledSpectrum(0.f);
+    float choice = 0.f;
+    const int index = choices.sample(u_light, choice);
+    std::optional<LightSample> ls = light_sample_li(scene.lights[index], ctx, lambda, u1, u2);
+    if (!ls) return SampledSpectrum(0.f);
+    if constexpr (kTextured)
+        if (scene.light_textured(index)) ls->L = scene.light_point_emission(index, ls->p, lambda);
+    const SampledSpectrum f_cos = bsdf_eval(bsdf, wo, ls->wi, hit.ns, lambda, TransportMode::radiance);
+    if (f_cos.is_zero()) return SampledSpectrum(0.f);
     ++stats.rays;
-    if (scene.occluded(r->shadow, r->skip_sphere, time)) return SampledSpectrum(0.f);
-    return area_light_contribution(*r, bsdf, hit, wo, lambda, mis);
+    Ray shadow;
+    int skip_sphere = -1;
+    if (ls->unoccluding_sphere >= 0 && !scene.uses_bvh()) {
+        // The light's sphere is not tested: only the origin needs its offset.
+        shadow = spawn_ray_to(hit, ls->p);
+        skip_sphere = ls->unoccluding_sphere;
+    } else if (ls->infinite) {
+        shadow = spawn_ray(hit, ls->wi);
+    } else if (ls->plane_distance > 0.f) {
+        // Short of the plane by a relative margin far above the origin's offset.
+        shadow = spawn_ray(hit, ls->wi);
+        shadow.t_max = ls->plane_distance * (1.f - 1e-4f);
+    } else {
+        shadow = spawn_ray_between(hit.p, hit.p_err, hit.n, ls->p, ls->p_err, ls->n);
+    }
+    if (scene.occluded(shadow, skip_sphere, time)) return SampledSpectrum(0.f);
+    const float pdf_light = choice * ls->pdf;
+    if (!mis) return f_cos * ls->L / pdf_light;
+    const float pdf_bsdf = bsdf_pdf(bsdf, wo, ls->wi, hit.ns, lambda.lambda[0]);
+    return f_cos * ls->L * (power_heuristic(pdf_light, pdf_bsdf) / pdf_light);
+}
+
+/// MIS weight of emission that BSDF sampling found along `wi` from `prev` (light `index`,
+/// reached at `hit`, or escaped when hit is null) against sampling that light directly.
+[[gnu::noinline]] float emission_weight(const Scene& scene, const LightDistribution& choices, int index,
+                                        const LightSampleContext& prev, float pdf_bsdf, const Vec3& wi,
+                                        const Hit* hit) {
+    const float choice = choices.probability(index);
+    if (choice == 0.f) return 1.f;  // a light that next-event estimation never samples
+    return power_heuristic(pdf_bsdf, choice * light_pdf_li(scene.lights[index], prev, wi, hit));
 }
 
 struct NoScratch {};
