@@ -44,7 +44,9 @@ set(SPT_CORE_SOURCES
     src/render/integrator.cpp
     src/render/light_sampling.cpp
     src/render/renderer.cpp
+    src/render/tile_grid.cpp
     src/render/volumetric_path.cpp
+    src/render/wavefront.cpp
     src/scene/builtin_scenes.cpp
     src/scene/effects.cpp
     src/scene/json_checker.cpp

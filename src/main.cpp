@@ -26,6 +26,7 @@
 #include "io/image_writer.h"
 #include "render/checkpoint.h"
 #include "render/renderer.h"
+#include "render/wavefront.h"
 #include "io/json.h"
 #include "scene/json_checker.h"
 #include "scene/scene_loader.h"
@@ -183,6 +184,14 @@ int run(const spt::Options& opt) {
     rs.threads = opt.threads > 0 ? opt.threads
                                  : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
     rs.integrator = integrator.settings;
+    rs.tile = opt.tile;
+    rs.queue = opt.queue;
+    rs.schedule = opt.schedule;
+    if (const char* feature = rs.schedule == spt::Schedule::wavefront
+                                  ? spt::wavefront_unsupported(*scene, rs.integrator, opt.sampler) : nullptr)
+        throw spt::UsageError(std::string("--schedule wavefront: does not support ") + feature + " (scene '" +
+                              scene->name + "'); expected --schedule tiles" +
+                              (rs.sampler != spt::SamplerKind::independent ? " or --sampler independent" : ""));
     rs.pass_spp = opt.pass_spp;
     rs.time_limit = opt.time_limit;
     if (opt.print_passes) {

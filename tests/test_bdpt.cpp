@@ -166,7 +166,7 @@ TEST(Bdpt, AgreesWithPathTracerOnCornellPointOutsideCaustics) {
 TEST(Bdpt, DeterministicForAnyThreadCount) {
     const Scene scene = builtin("cornell-point");
     RenderSettings rs = bdpt_settings(40, 24, 4, 9, 1);
-    rs.tile_size = 8;
+    rs.tile = {8, 8};
     const auto one = render_film(scene, rs);
     ASSERT_TRUE(one->has_splats());
     for (int threads : {2, 7}) {

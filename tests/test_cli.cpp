@@ -240,6 +240,17 @@ TEST_F(Cli, BadArgumentsExitTwoWithOneLineNamingTheFlag) {
         {{"--merge-radius", "abc"}, {"--merge-radius", "abc"}},
         {{"--merge-radius", "nan"}, {"--merge-radius"}},
         {{"--merge-radius"}, {"--merge-radius"}},
+        {{"--tile", "0"}, {"--tile", "'0'", "WxH"}},
+        {{"--tile", "8x"}, {"--tile", "8x"}},
+        {{"--tile", "65537"}, {"--tile", "65537"}},
+        {{"--tile", "rows:0"}, {"--tile", "rows:0"}},
+        {{"--tile", "rowsx"}, {"--tile", "rowsx"}},
+        {{"--queue", "lockfree"}, {"--queue", "lockfree", "atomic"}},
+        {{"--schedule", "wavefrnt"}, {"--schedule", "Did you mean \"wavefront\"?"}},
+        {{"cornell-fog", "--schedule", "wavefront"}, {"--schedule wavefront", "participating media", "tiles"}},
+        {{"textured", "--schedule", "wavefront"}, {"--schedule wavefront", "textures"}},
+        {{"--integrator", "bdpt", "--schedule", "wavefront"}, {"--schedule wavefront", "bdpt"}},
+        {{"--schedule", "wavefront"}, {"--schedule wavefront", "the sobol sampler", "--sampler independent"}},
     };
     for (const BadCase& c : cases) {
         // The bad arguments come last (so "missing value" cases really are at the end), after

@@ -35,20 +35,7 @@ RenderSettings base_settings() {
     return rs;
 }
 
-/// Bit-exact equality of the XYZ sums (memcmp, so −0 vs +0 and NaN payloads count) and of the
-/// per-pixel sample counts. Returns the number of differing doubles.
-std::size_t count_differences(const Film& a, const Film& b) {
-    const std::vector<double>& x = a.xyz_sums();
-    const std::vector<double>& y = b.xyz_sums();
-    if (x.size() != y.size()) return std::max(x.size(), y.size());
-    std::size_t diff = 0;
-    for (std::size_t i = 0; i < x.size(); ++i)
-        if (std::memcmp(&x[i], &y[i], sizeof(double)) != 0) ++diff;
-    for (int py = 0; py < a.height(); ++py)
-        for (int px = 0; px < a.width(); ++px)
-            if (a.sample_count(px, py) != b.sample_count(px, py)) ++diff;
-    return diff;
-}
+using test::count_differences;
 
 TEST(Determinism, ThreadCountDoesNotChangeTheFilm) {
     for (const Scene* scene : {&cornell(), &cornell_point()})
@@ -79,7 +66,7 @@ TEST(Determinism, TileAndPassSizesDoNotChangeTheFilm) {
         RenderSettings rs = base_settings();
         rs.sampler = sampler;
         rs.threads = 2;
-        rs.tile_size = 32;
+        rs.tile = {32, 32};
         rs.pass_spp = 8;
         const auto reference = test::render_film(cornell(), rs);
         struct Variant {
@@ -87,7 +74,7 @@ TEST(Determinism, TileAndPassSizesDoNotChangeTheFilm) {
         };
         for (const Variant v : {Variant{8, 8}, Variant{32, 1}, Variant{8, 1}, Variant{5, 3}, Variant{1, 8},
                                 Variant{64, 0}}) {
-            rs.tile_size = v.tile_size;
+            rs.tile = {v.tile_size, v.tile_size};
             rs.pass_spp = v.pass_spp;
             RenderStats stats;
             const auto film = test::render_film(cornell(), rs, &stats);

@@ -7,12 +7,14 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <limits>
 #include <memory>
 #include <numbers>
 #include <string>
 #include <utility>
 #include <variant>
+#include <vector>
 
 #include "model/material.h"
 #include "render/film.h"
@@ -199,6 +201,21 @@ inline std::unique_ptr<Film> render_film(const Scene& scene, const RenderSetting
     const RenderStats st = render(scene, settings, *film);
     if (stats) *stats = st;
     return film;
+}
+
+/// Bit-exact equality of the XYZ sums (memcmp, so −0 vs +0 and NaN payloads count) and of the
+/// per-pixel sample counts. Returns the number of differing doubles.
+inline std::size_t count_differences(const Film& a, const Film& b) {
+    const std::vector<double>& x = a.xyz_sums();
+    const std::vector<double>& y = b.xyz_sums();
+    if (x.size() != y.size()) return std::max(x.size(), y.size());
+    std::size_t diff = 0;
+    for (std::size_t i = 0; i < x.size(); ++i)
+        if (std::memcmp(&x[i], &y[i], sizeof(double)) != 0) ++diff;
+    for (int py = 0; py < a.height(); ++py)
+        for (int px = 0; px < a.width(); ++px)
+            if (a.sample_count(px, py) != b.sample_count(px, py)) ++diff;
+    return diff;
 }
 
 /// Mean Y over all pixels and its standard error (pixels are independent: errors add in

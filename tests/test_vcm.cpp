@@ -402,7 +402,7 @@ TEST(Vcm, DeterministicForAnyThreadCount) {
     const Scene scene = builtin("cornell-point");
     RenderSettings rs = with(IntegratorKind::vcm, 72, 64, 2, 9, 0.05f);
     rs.threads = 1;
-    rs.tile_size = 8;
+    rs.tile = {8, 8};
     const auto one = render_film(scene, rs);
     ASSERT_TRUE(one->has_splats());
     for (int threads : {2, 7}) {

@@ -66,7 +66,8 @@ const std::vector<std::string>& known_flags() {
         "--help", "--version", "--list-scenes", "--rgb-to-spectrum", "--quiet", "--spp", "--width",
         "--height", "--scale", "--output", "--exposure", "--auto-exposure", "--tonemap", "--white-balance",
         "--print-adaptation", "--color-resolution", "--color-space", "--spectral-bins", "--spectral-bands",
-        "--spectral-range", "--sensor", "--preview-interval", "--display-server", "--threads", "--seed",
+        "--spectral-range", "--sensor", "--preview-interval", "--display-server", "--threads", "--tile", "--queue",
+        "--schedule", "--seed",
         "--checkpoint", "--resume", "--checkpoint-interval", "--time-limit", "--wavelengths-per-path",
         "--integrator", "--light-sampling", "--merge-radius", "--no-dispersion", "--pass-spp", "--max-depth",
         "--passes", "--print-passes", "--sampler"};
@@ -121,6 +122,18 @@ Options:
   --spectral-bins N      bins per spectrum, 1 to 1024, or 'exact' to evaluate the
                          analytic spectra at each wavelength (default 16)
   --threads T            worker threads (1 to 1024; default: all cores)
+  --tile SHAPE           the tiles workers take (tiles schedule): N (N x N pixels), WxH,
+                         rows[:N] (whole-width strips N pixels tall, default 1),
+                         columns[:N] (whole-height strips) or pixel (1x1); sides 1 to
+                         65536 (default 32). Does not change the image
+  --queue KIND           how workers take their tasks: mutex (default: a locked deque),
+                         ring (a lock-free ring) or atomic (one atomic counter over the
+                         pass's tasks). Does not change the image
+  --schedule NAME        tiles (default: each worker traces whole paths of its tiles) or
+                         wavefront (batches of 16384 paths through stages: camera rays,
+                         intersection, shading, shadow rays, film; every worker on each
+                         stage). Path integrator only, no media or textures. Does not
+                         change the image
   --seed S               random seed (0 to 2^64-1; default 0); same seed, same image
   --sampler NAME         sobol (default: Owen-scrambled Sobol points per pixel, each number
                          at a fixed dimension; the path integrator throughout, bdpt, vcm
@@ -291,6 +304,27 @@ Options parse_options(const std::vector<std::string>& args) {
             if (o.sensor.empty()) throw UsageError(flag + ": expected a file name (.csv)");
         } else if (flag == "--threads") {
             o.threads = parse_integer<int>(flag, next_value(), 1, 1024, "an integer from 1 to 1024");
+        } else if (flag == "--tile") {
+            const std::string v = next_value();
+            const std::optional<TileShape> shape = parse_tile_shape(lowercase(v));
+            if (!shape)
+                throw UsageError(flag + ": expected N, WxH, rows[:N], columns[:N] or pixel (sides 1 to 65536), got '" +
+                                 v + "'");
+            o.tile = *shape;
+        } else if (flag == "--queue") {
+            const std::string v = next_value();
+            const std::optional<QueueKind> kind = queue_kind_from_name(lowercase(v));
+            if (!kind)
+                throw UsageError(flag + ": expected mutex, ring or atomic, got '" + v + "'." +
+                                 suggestion(v, {"mutex", "ring", "atomic"}));
+            o.queue = *kind;
+        } else if (flag == "--schedule") {
+            const std::string v = next_value();
+            const std::string name = lowercase(v);
+            if (name != "tiles" && name != "wavefront")
+                throw UsageError(flag + ": expected tiles or wavefront, got '" + v + "'." +
+                                 suggestion(v, {"tiles", "wavefront"}));
+            o.schedule = name == "tiles" ? Schedule::tiles : Schedule::wavefront;
         } else if (flag == "--seed") {
             o.seed = parse_integer<std::uint64_t>(flag, next_value(), 0,
                                                   std::numeric_limits<std::uint64_t>::max(),

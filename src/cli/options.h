@@ -13,6 +13,7 @@
 #include "io/tev_client.h"
 #include "render/integrator.h"
 #include "render/sampler_kind.h"
+#include "render/renderer.h"
 #include "spectral/chromatic_adaptation.h"
 #include "spectral/spectral_bands.h"
 #include "spectral/spectrum.h"
@@ -35,6 +36,9 @@ struct Options {
     SpectralBands spectral_bands;  ///< count 0: no spectral channels in the .exr outputs
     std::string sensor;            ///< camera sensitivities (CSV) instead of CIE 1931; empty: none
     int threads = 0;
+    TileShape tile;                       ///< --tile (default 32x32)
+    QueueKind queue = QueueKind::mutex;   ///< --queue
+    Schedule schedule = Schedule::tiles;  ///< --schedule
     std::uint64_t seed = 0;
     // Integrator settings: unset, the scene file's choice applies, else the default.
     std::optional<int> max_depth;                   ///< default: unbounded

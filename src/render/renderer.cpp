@@ -13,8 +13,10 @@
 #include "core/sample_dimensions.h"
 #include "render/bdpt.h"
 #include "render/light_sampling.h"
+#include "render/pixel_sample.h"
 #include "render/vertex_merging.h"
 #include "render/volumetric_path.h"
+#include "render/wavefront.h"
 #include "render/work_queue.h"
 
 namespace spt {
@@ -27,6 +29,8 @@ struct TileTask {
     int index;  ///< position of the tile in its pass (the order splats are merged in)
     /// vcm's light phase: light subpaths [x0, x1) of sample first_sample instead of pixels
     bool light_subpaths = false;
+    /// The wavefront schedule: chunk `index` of its current stage (nothing else is set)
+    bool wavefront_chunk = false;
 };
 
 /// Merges the tiles' splats into the film in tile order, whichever thread finishes which
@@ -74,62 +78,6 @@ private:
     std::vector<Pending> m_pending;
     std::size_t m_next = 0;
 };
-
-/// The start of every path sample, shared by both integrators so they draw identical numbers:
-/// Rng(seed, pixel, sample), then the wavelengths, then the jitter inside the pixel, then
-/// (thin lens only) the lens point, then (motion blur only) the shutter time: scenes without
-/// an effect draw nothing for it. Sampler: Rng, or SobolSampler, which takes each of these
-/// from its dimension (core/sample_dimensions.h; the seeks are no-ops for Rng).
-/// The camera ray is left to the caller (ray() as the integrator's argument): built in place
-/// there, it is not copied through memory in pieces, which stalls the first intersection.
-template <class Sampler>
-struct PixelSample {
-    Sampler rng;
-    SampledWavelengths lambda;
-    float px, py;                      ///< film position of the sample
-    float lens_u = 0.f, lens_v = 0.f;  ///< thin lens: the lens point's uniform numbers
-    float time = 0.f;                  ///< shutter time of the whole sample
-    Ray ray(const Camera& camera) const {
-        return camera.thin_lens() ? camera.generate_ray(px, py, lens_u, lens_v) : camera.generate_ray(px, py);
-    }
-};
-/// The lens point and the shutter time of a sample, for the scenes that have either. Out of
-/// line: inlined, the lens sampling grew the render loop past what GCC inlines whole, and the
-/// pinhole path lost 4.6 % on cornell.
-template <class Sampler>
-[[gnu::noinline]] PixelSample<Sampler> start_lens_and_time(Sampler rng, const SampledWavelengths& lambda, float px,
-                                                           float py, const Camera& camera) {
-    PixelSample<Sampler> ps{rng, lambda, px, py};
-    ps.time = camera.shutter_open();
-    if (camera.thin_lens()) {
-        seek_dimension(ps.rng, dims::kLensU);
-        ps.lens_u = ps.rng.uniform();
-        ps.lens_v = ps.rng.uniform();
-    }
-    if (camera.motion_blur()) {
-        seek_dimension(ps.rng, dims::kTime);
-        ps.time = camera.shutter_time(ps.rng.uniform());
-    }
-    return ps;
-}
-inline RngStream pixel_stream(const RenderSettings& settings, int x, int y) {
-    return RngStream(settings.seed, std::uint64_t(y) * settings.width + x);
-}
-template <class Sampler>
-inline PixelSample<Sampler> start_pixel_sample(const RngStream& stream, int x, int y, int s,
-                                               const RenderSettings& settings, const Camera& camera) {
-    Sampler rng(stream, static_cast<std::uint64_t>(s));
-    seek_dimension(rng, dims::kWavelength);
-    const float u = rng.uniform();
-    SampledWavelengths lambda = settings.wide_wavelengths ? settings.wide_wavelengths->sample(u)
-                                                          : SampledWavelengths::sample(u);
-    if (settings.integrator.wavelengths_per_path == 1) lambda.terminate_secondary();
-    seek_dimension(rng, dims::kPixelX);
-    const float px = static_cast<float>(x) + rng.uniform();
-    const float py = static_cast<float>(y) + rng.uniform();
-    if (!camera.thin_lens() && !camera.motion_blur()) return {rng, lambda, px, py, 0.f, 0.f, camera.shutter_open()};
-    return start_lens_and_time(rng, lambda, px, py, camera);
-}
 
 /// render_pixel for bidirectional path tracing: the same samples (Rng, wavelengths, jitter),
 /// the camera-side estimate to the pixel and the light-to-camera splats to `splats`. With the
@@ -180,9 +128,11 @@ public:
     /// Pushes the light-phase tasks of the pass begun at sample `first`.
     void queue_light_tasks(int first, WorkQueue<TileTask>& queue) const {
         const int n = m_settings.width * m_settings.height;
+        std::vector<TileTask> tasks;
         for (int k = 0; k < static_cast<int>(m_batches.size()); ++k)
-            queue.push({k * kLightSubpathsPerTask, 0, std::min(n, (k + 1) * kLightSubpathsPerTask), 1, first,
-                        first + 1, k, true});
+            tasks.push_back({k * kLightSubpathsPerTask, 0, std::min(n, (k + 1) * kLightSubpathsPerTask), 1, first,
+                             first + 1, k, true});
+        queue.push(tasks);
     }
 
     /// Worker side of the light phase: light subpaths [x0, x1) of the task's sample (none if
@@ -382,7 +332,17 @@ RenderStats render(const Scene& scene, const RenderSettings& settings, Film& fil
     std::optional<VcmPasses> vcm_passes;
     if (vcm) vcm_passes.emplace(*bidir, settings);
 
-    WorkQueue<TileTask> queue;
+    const TileGrid grid(settings.width, settings.height, settings.tile);
+    // The ring holds a whole pass's tiles (or vcm light tasks, or wavefront chunks), up to 64 k.
+    const int most_tasks = std::max(grid.count(), (settings.width * settings.height + kLightSubpathsPerTask - 1) /
+                                                       kLightSubpathsPerTask);
+    WorkQueue<TileTask> queue(settings.queue, static_cast<std::size_t>(std::clamp(most_tasks, 1024, 1 << 16)));
+    std::optional<Wavefront> wavefront;
+    if (settings.schedule == Schedule::wavefront) {
+        if (const char* feature = wavefront_unsupported(scene, settings.integrator, settings.sampler))
+            throw std::invalid_argument(std::string("the wavefront schedule does not support ") + feature);
+        wavefront.emplace(scene, settings, camera, film);
+    }
     PassLatch latch;
     std::atomic<std::uint64_t> rays{0};
     auto cancelled = [&] { return cancel && cancel->load(std::memory_order_relaxed); };
@@ -394,6 +354,10 @@ RenderStats render(const Scene& scene, const RenderSettings& settings, Film& fil
             while (std::optional<TileTask> task = queue.pop()) {
                 std::uint64_t paths = 0;
                 std::vector<Splat> splats;
+                if (task->wavefront_chunk) {
+                    latch.finished_one(wavefront->run_chunk(task->index, local));
+                    continue;
+                }
                 if (task->light_subpaths) {
                     vcm_passes->run_light_task(*task, cancelled(), local, merger);
                     latch.finished_one(0);
@@ -426,7 +390,6 @@ RenderStats render(const Scene& scene, const RenderSettings& settings, Film& fil
     }
 
     // Producer: one pass at a time, so a pixel never gets samples out of order.
-    const int ts = settings.tile_size;
     double seconds_per_spp = 0;  // pace of the last pass
     for (int first = first_sample; first < end_sample && !cancelled();) {
         const auto pass_start = std::chrono::steady_clock::now();
@@ -449,16 +412,31 @@ RenderStats render(const Scene& scene, const RenderSettings& settings, Film& fil
             if (cancelled()) break;
             vcm_passes->build_grid();
         }
-        latch.reset();
-        int tiles = 0;
-        const int tiles_x = (settings.width + ts - 1) / ts, tiles_y = (settings.height + ts - 1) / ts;
-        if (!vcm) merger.reset(tiles_x * tiles_y);
-        for (int y0 = 0; y0 < settings.height; y0 += ts)
-            for (int x0 = 0; x0 < settings.width; x0 += ts, ++tiles)
-                queue.push({x0, y0, std::min(x0 + ts, settings.width),
-                            std::min(y0 + ts, settings.height), first, end, tiles});
-        while (!latch.wait_for(tiles, std::chrono::milliseconds(200)))
-            if (progress) progress(latch.paths(), total_paths);
+        if (wavefront) {
+            // Stage after stage, each one's chunks through the queue, all done before the next.
+            wavefront->begin_pass(first, end);
+            while (!cancelled()) {
+                const int chunks = wavefront->next_stage();
+                if (chunks == 0) break;
+                std::vector<TileTask> tasks(static_cast<std::size_t>(chunks));
+                for (int k = 0; k < chunks; ++k) tasks[static_cast<std::size_t>(k)] = {0, 0, 0, 0, 0, 0, k, false, true};
+                latch.reset();
+                queue.push(tasks);
+                while (!latch.wait_for(chunks, std::chrono::milliseconds(200)))
+                    if (progress) progress(latch.paths(), total_paths);
+            }
+        } else {
+            latch.reset();
+            if (!vcm) merger.reset(grid.count());
+            std::vector<TileTask> tiles(static_cast<std::size_t>(grid.count()));
+            for (int k = 0; k < grid.count(); ++k) {
+                const TileRect r = grid.tile(k);
+                tiles[static_cast<std::size_t>(k)] = {r.x0, r.y0, r.x1, r.y1, first, end, k};
+            }
+            queue.push(tiles);
+            while (!latch.wait_for(grid.count(), std::chrono::milliseconds(200)))
+                if (progress) progress(latch.paths(), total_paths);
+        }
         if (cancelled()) break;
         if (film.has_splats() && next_chunk_end(settings, end - 1) == end) film.fold_splats();
         ++stats.passes_completed;

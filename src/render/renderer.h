@@ -9,17 +9,26 @@
 #include "render/film.h"
 #include "render/integrator.h"
 #include "render/sampler_kind.h"
+#include "render/tile_grid.h"
+#include "render/work_queue.h"
 #include "scene/scene.h"
 #include "spectral/wavelength_range.h"
 
 namespace spt {
+
+/// How the workers share a pass: tiles (each path traced whole by one worker) or wavefront
+/// (batches of paths moved through stages, every worker on each stage: render/wavefront.h).
+enum class Schedule { tiles, wavefront };
 
 struct RenderSettings {
     int width = 512, height = 512;
     int spp = 64;               ///< paths per pixel
     std::uint64_t seed = 0;
     int threads = 0;            ///< 0: all hardware threads
-    int tile_size = 32;
+    TileShape tile;             ///< the tiles of the tiles schedule (the wavefront has none)
+    QueueKind queue = QueueKind::mutex;  ///< how workers take tasks (tiles, wavefront stage chunks)
+    Schedule schedule = Schedule::tiles;
+    int wavefront_batch = 1 << 14;  ///< wavefront: paths per batch (rounded to whole pixels)
     int pass_spp = 0;           ///< samples per pass; 0: chosen automatically
     /// With automatic passes (pass_spp 0), > 0: each pass is sized, at the pace of the one
     /// before, to take about this long (the first has 1 spp; at most effective_pass_spp), so

@@ -1,48 +1,54 @@
-// A thread-safe FIFO queue: one producer pushes work items, many workers pop them until the
-// queue is closed and drained.
+// The queue worker threads take their tasks from, in one of three implementations chosen at
+// run time (--queue): measured against each other in validation/parallel_strategies.py.
 #pragma once
-#include <condition_variable>
-#include <deque>
-#include <mutex>
+#include <cstddef>
 #include <optional>
+#include <span>
+#include <string_view>
+#include <variant>
+
+#include "render/counter_queue.h"
+#include "render/mutex_queue.h"
+#include "render/ring_queue.h"
 
 namespace spt {
 
+enum class QueueKind { mutex, ring, counter };
+
+/// "mutex", "ring", "atomic" (the counter queue); nullopt for any other name.
+inline std::optional<QueueKind> queue_kind_from_name(std::string_view name) {
+    if (name == "mutex") return QueueKind::mutex;
+    if (name == "ring") return QueueKind::ring;
+    if (name == "atomic") return QueueKind::counter;
+    return std::nullopt;
+}
+inline const char* queue_kind_name(QueueKind kind) {
+    return kind == QueueKind::mutex ? "mutex" : kind == QueueKind::ring ? "ring" : "atomic";
+}
+
+/// One producer pushes batches of items, many workers pop them until the queue is closed and
+/// drained. Every kind hands out each item exactly once, in push order; the counter queue
+/// also needs the previous batch finished before a push (the renderer always waits for it).
 template <typename T>
 class WorkQueue {
 public:
-    void push(T item) {
-        {
-            const std::lock_guard lock(m_mutex);
-            m_items.push_back(std::move(item));
-        }
-        m_ready.notify_one();
+    /// `capacity`: the ring's size (the most items it holds at once; the other kinds grow).
+    WorkQueue(QueueKind kind, std::size_t capacity) {
+        if (kind == QueueKind::ring) m_queue.template emplace<RingQueue<T>>(capacity);
+        else m_queue.template emplace<CounterQueue<T>>();
     }
-
-    /// Blocks until an item is available; nullopt once the queue is closed and empty.
+    void push(std::span<const T> items) {
+        std::visit([&](auto& q) { q.push(items); }, m_queue);
+    }
     std::optional<T> pop() {
-        std::unique_lock lock(m_mutex);
-        m_ready.wait(lock, [&] { return !m_items.empty() || m_closed; });
-        if (m_items.empty()) return std::nullopt;
-        T item = std::move(m_items.front());
-        m_items.pop_front();
-        return item;
+        return std::visit([](auto& q) { return q.pop(); }, m_queue);
     }
-
-    /// No more items will come: wakes every waiting worker.
     void close() {
-        {
-            const std::lock_guard lock(m_mutex);
-            m_closed = true;
-        }
-        m_ready.notify_all();
+        std::visit([](auto& q) { q.close(); }, m_queue);
     }
 
 private:
-    std::mutex m_mutex;
-    std::condition_variable m_ready;
-    std::deque<T> m_items;
-    bool m_closed = false;
+    std::variant<MutexQueue<T>, RingQueue<T>, CounterQueue<T>> m_queue;
 };
 
 }  // namespace spt
