@@ -132,8 +132,8 @@ Options:
   --schedule NAME        tiles (default: each worker traces whole paths of its tiles) or
                          wavefront (batches of 16384 paths through stages: camera rays,
                          intersection, shading, shadow rays, film; every worker on each
-                         stage). Path integrator only, no media or textures. Does not
-                         change the image
+                         stage). Path integrator with --sampler independent, no media
+                         or textures. Does not change the image
   --seed S               random seed (0 to 2^64-1; default 0); same seed, same image
   --sampler NAME         sobol (default: Owen-scrambled Sobol points per pixel, each number
                          at a fixed dimension; the path integrator throughout, bdpt, vcm
