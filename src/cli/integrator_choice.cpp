@@ -1,6 +1,8 @@
 // Command line first, then the scene file, then the defaults of IntegratorSettings.
 #include "cli/integrator_choice.h"
 
+#include <algorithm>
+
 namespace spt {
 
 IntegratorChoice choose_integrator(const Options& options, const Scene& scene) {
@@ -23,11 +25,16 @@ IntegratorChoice choose_integrator(const Options& options, const Scene& scene) {
     // Effects an integrator cannot render: a usage error, never a wrong image.
     const char* feature = nullptr;
     const char* instead = "--integrator path";
-    if (s.kind != IntegratorKind::path)
-        feature = scene.effects.media                ? "participating media"
-                  : !scene.spot_light_indices.empty() ? "spot lights"
-                  : scene.effects.textures           ? "textures"
-                                                     : nullptr;
+    // bdpt renders homogeneous media (bdpt_media.h); vcm none (no volume merging).
+    const bool heterogeneous = std::any_of(scene.media.begin(), scene.media.end(),
+                                           [](const Medium& m) { return !m.is_uniform(); });
+    if (s.kind == IntegratorKind::vcm && scene.effects.media) {
+        feature = "participating media";
+        instead = heterogeneous ? "--integrator path" : "--integrator bdpt or path";
+    } else if (s.kind == IntegratorKind::bdpt && heterogeneous) {
+        feature = "heterogeneous media (grid or height fog)";
+    }
+    if (!feature && s.kind != IntegratorKind::path && scene.effects.textures) feature = "textures";
     if (!feature && s.kind == IntegratorKind::vcm && scene.effects.motion_blur) {
         // Its merges join light subpaths of a whole pass, each at its own shutter time.
         feature = "motion blur";
