@@ -95,7 +95,9 @@ TEST(BdptMedia, FogInABoxMatchesThePathTracer) {
     EXPECT_GT(test::image_mean_y(*film).mean, 0.0);
 }
 
-TEST(BdptMedia, ScatteringSlabMatchesThePathTracer) {
+// Known failure (why bdpt refuses media): bdpt is 4-20 % below path where paths cross a shape
+// without a surface into a scattering medium (camera or light outside it).
+TEST(BdptMedia, DISABLED_ScatteringSlabMatchesThePathTracer) {
     // A slab of dense forward-scattering medium bounded by a box without a surface, in a
     // vacuum box: light crosses it many times before it reaches the camera.
     std::string slab;
@@ -187,7 +189,8 @@ Scene spot_in_haze() {
                       "spot in haze");
 }
 
-TEST(BdptMedia, SpotLightThroughHazeMatchesThePathTracer) {
+// The same known failure.
+TEST(BdptMedia, DISABLED_SpotLightThroughHazeMatchesThePathTracer) {
     const auto film = expect_bdpt_renders_match_path(spot_in_haze(), 41);
     EXPECT_GT(test::image_mean_y(*film).mean, 0.0);
 }
@@ -257,32 +260,20 @@ TEST(BdptMedia, ThreadCountDoesNotChangeTheFilmAndEveryPixelIsFinite) {
     EXPECT_GT(test::image_mean_y(*one).mean, 0.0);
 }
 
-TEST(BdptMedia, BdptRendersHomogeneousMediaAndRefusesHeterogeneousOnes) {
-    Options bdpt, vcm;
-    bdpt.integrator = IntegratorKind::bdpt;
-    vcm.integrator = IntegratorKind::vcm;
+TEST(BdptMedia, BdptAndVcmRefuseMediaUntilBdptMatchesThePathTracer) {
     const Scene fog = fog_box();
-    EXPECT_NO_THROW(choose_integrator(bdpt, fog));
-    auto message = [](const Options& o, const Scene& s) -> std::string {
+    for (IntegratorKind kind : {IntegratorKind::bdpt, IntegratorKind::vcm}) {
+        Options o;
+        o.integrator = kind;
+        std::string error = "(no error)";
         try {
-            choose_integrator(o, s);
+            choose_integrator(o, fog);
         } catch (const UsageError& e) {
-            return e.what();
+            error = e.what();
         }
-        return "(no error)";
-    };
-    const std::string vcm_error = message(vcm, fog);
-    EXPECT_NE(vcm_error.find("vcm integrator"), std::string::npos) << vcm_error;
-    EXPECT_NE(vcm_error.find("does not support participating media"), std::string::npos) << vcm_error;
-    EXPECT_NE(vcm_error.find("--integrator bdpt or path"), std::string::npos) << vcm_error;
-    const Scene height_fog = test::load_exact_scene(
-        R"({"camera": {"position": [0, 0, 0], "look_at": [0, 0, -1]},
-            "media": {"f": {"type": "height_fog", "sigma_a": 0, "sigma_s": 1, "scale_height": 0.5}}, "medium": "f",
-            "shapes": [{"type": "sphere", "center": [0, 0, -3], "radius": 1, "emission": 1}]})",
-        "height fog");
-    const std::string bdpt_error = message(bdpt, height_fog);
-    EXPECT_NE(bdpt_error.find("does not support heterogeneous media"), std::string::npos) << bdpt_error;
-    EXPECT_NE(bdpt_error.find("expected --integrator path"), std::string::npos) << bdpt_error;
+        EXPECT_NE(error.find("does not support participating media"), std::string::npos) << error;
+        EXPECT_NE(error.find("expected --integrator path"), std::string::npos) << error;
+    }
 }
 
 }  // namespace
