@@ -37,6 +37,7 @@ set(SPT_CORE_SOURCES
     src/io/ppm_writer.cpp
     src/io/tone_map.cpp
     src/render/bdpt.cpp
+    src/render/bdpt_media.cpp
     src/render/photon_grid.cpp
     src/render/vertex_merging.cpp
     src/render/checkpoint.cpp

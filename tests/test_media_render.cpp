@@ -1,5 +1,5 @@
 // Participating media through the whole renderer: hero-wavelength spectral MIS against the
-// one-wavelength reference, spot lights, and the integrators that refuse media.
+// one-wavelength reference, spot lights, and vcm's refusal of media (bdpt: test_bdpt_media.cpp).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -143,9 +143,9 @@ TEST(SpotLight, FalloffIsASmoothStepBetweenTheAngles) {
 
 // ---------------------------- Integrators without media ----------------------------
 
-TEST(MediaIntegrators, BdptAndVcmRefuseMediaAndSpotLights) {
+TEST(MediaIntegrators, VcmRefusesMedia) {
     const Scene fog = chromatic_furnace();
-    for (IntegratorKind kind : {IntegratorKind::bdpt, IntegratorKind::vcm}) {
+    for (IntegratorKind kind : {IntegratorKind::vcm}) {
         Options options;
         options.integrator = kind;
         try {

@@ -1,6 +1,7 @@
 // Command line first, then the scene file, then the defaults of IntegratorSettings.
 #include "cli/integrator_choice.h"
 
+
 namespace spt {
 
 IntegratorChoice choose_integrator(const Options& options, const Scene& scene) {
@@ -23,10 +24,10 @@ IntegratorChoice choose_integrator(const Options& options, const Scene& scene) {
     // Effects an integrator cannot render: a usage error, never a wrong image.
     const char* feature = nullptr;
     const char* instead = "--integrator path";
-    if (s.kind != IntegratorKind::path)
-        feature = scene.effects.media                ? "participating media"
-                  : !scene.spot_light_indices.empty() ? "spot lights"
-                                                      : nullptr;
+    // bdpt's media (bdpt_media.h) still disagree with the path tracer where paths cross a
+    // shape without a surface into a scattering medium (tests/test_bdpt_media.cpp): refused
+    // until that is found, as by vcm (no volume merging).
+    if (s.kind != IntegratorKind::path && scene.effects.media) feature = "participating media";
     if (!feature && s.kind == IntegratorKind::vcm && scene.effects.motion_blur) {
         // Its merges join light subpaths of a whole pass, each at its own shutter time.
         feature = "motion blur";

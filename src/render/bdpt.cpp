@@ -4,6 +4,7 @@
 #include <climits>
 
 #include "model/bsdfs/bsdf.h"
+#include "render/bdpt_media.h"
 
 namespace spt {
 
@@ -25,6 +26,7 @@ Vec3 direction(const Vertex& from, const Vertex& to) {
 /// density is planar (its disk, light_sampling.h), turned into area by the cosine at `to` only.
 float convert_density(float pdf, const Vertex& from, const Vertex& to) {
     if (to.infinite) return pdf;
+    if (to.type == VertexType::medium) pdf *= to.sigma_t;  // per unit volume: σt where a surface has |cos|
     if (from.infinite) return to.on_surface() ? pdf * std::fabs(dot(to.hit.n, from.dir)) : pdf;
     const Vec3 w = to.p() - from.p();
     const float d2 = length_squared(w);
@@ -65,13 +67,23 @@ const Bsdf& bsdf_at(const Scene& scene, const Hit& hit) {
 /// Densities of delta events are stored as 0; in ratios they cancel, as 1.
 float remap0(float x) { return x != 0.f ? x : 1.f; }
 
+/// Whether v scatters light on (a BSDF or a phase function): a surface or medium vertex.
+bool scatters(const Vertex& v) { return v.type == VertexType::surface || v.type == VertexType::medium; }
+
+/// The spot light a light origin is, or nullptr.
+const SpotLight* spot_of(const Scene& scene, const Vertex& light) {
+    return light.hit.light >= 0 ? std::get_if<SpotLight>(&scene.lights[static_cast<std::size_t>(light.hit.light)])
+                                : nullptr;
+}
+
 class Bdpt {
 public:
     /// eta: merging's density relative to a connection (MergeContext::eta); 0 without merging.
     Bdpt(const BdptContext& ctx, const SampledWavelengths& lambda, Rng& rng, PathStats& stats,
          std::vector<Vertex>& light, std::vector<Vertex>& camera, float eta = 0.f, float time = 0.f)
         : m_ctx(ctx), m_scene(ctx.scene), m_lambda(lambda), m_rng(rng), m_stats(stats),
-          m_hero(lambda.lambda[0]), m_eta(eta), m_time(time), m_light(light), m_camera(camera), m_hero_only(lambda) {
+          m_hero(lambda.lambda[0]), m_eta(eta), m_time(time), m_media(ctx.scene.effects.media), m_light(light),
+          m_camera(camera), m_hero_only(lambda) {
         m_hero_only.terminate_secondary();
     }
 
@@ -100,14 +112,20 @@ private:
     bool mergeable(const Vertex& v) const {
         return v.type == VertexType::surface && !v.infinite && m_scene.materials[v.hit.material].has_non_delta();
     }
+    /// `medium`: the one the ray starts in (scenes with media).
     void random_walk(Ray ray, SampledSpectrum beta, float pdf_dir, int max_vertices, Transport mode,
-                     SampledWavelengths& lambda, std::vector<Vertex>& path);
+                     SampledWavelengths& lambda, std::vector<Vertex>& path, int medium = -1);
+    bool scatter_in_medium(const FreeFlight& flight, const SampledSpectrum& beta, const SampledWavelengths& lambda,
+                           int max_vertices, std::vector<Vertex>& path, Ray& ray, float& pdf_fwd);
     float pdf(const Vertex& v, const Vertex* prev, const Vertex& next) const;
     float light_direction_pdf(const Vertex& light, const Vertex& next) const;
-    float mis_weight(int s, int t);
+    /// t_conn: the hero's transmittance of the connection (media), a factor of its densities.
+    float mis_weight(int s, int t, float t_conn = 1.f);
     MergeSideSum camera_merge_sum(int t) const;
     float other_strategies(int s, int t, int camera_stop) const;
     bool visible(const Vertex& a, const Vertex& b);
+    /// Scenes with media: the transmittance from scattering vertex a to b (0 if blocked).
+    Transmittance transmittance(const Vertex& a, const Vertex& b);
     SampledSpectrum f_cos(const Vertex& v, const Vec3& wi, const SampledWavelengths& lambda, Transport mode) const;
     /// The wavelengths a strategy's BSDF evaluations see: hero only once it terminated them
     /// (a dispersive transmission then evaluates to the hero's f, not K times it: bsdf.h).
@@ -123,6 +141,7 @@ private:
     float m_hero;
     float m_eta;
     float m_time;  ///< of the sample: both subpaths and every connection see the scene then
+    bool m_media;  ///< the scene has participating media (bdpt_media.h)
     std::vector<Vertex>& m_light;   ///< light subpath: the origin, then surface vertices
     std::vector<Vertex>& m_camera;  ///< camera subpath: the pinhole, surface vertices, and the
                                     ///< environment when the last ray escaped
@@ -133,14 +152,38 @@ private:
 /// Extends `path` from its last vertex along `ray`. pdf_dir is the density of the ray's
 /// direction in solid angle, or planar (the disk) when the path starts at the environment.
 void Bdpt::random_walk(Ray ray, SampledSpectrum beta, float pdf_dir, int max_vertices, Transport mode,
-                       SampledWavelengths& lambda, std::vector<Vertex>& path) {
+                       SampledWavelengths& lambda, std::vector<Vertex>& path, int medium) {
     const IntegratorSettings& settings = m_ctx.settings;
     float pdf_fwd = pdf_dir, eta_scale = 1.f;
     const float roulette_norm = 1.f / std::max(beta.max_value(), 1e-30f);
     int bounces = 0;
+    // Roulette on throughput relative to the subpath's start (light paths start at power).
+    auto survives_roulette = [&]() {
+        if (!settings.roulette || ++bounces < settings.roulette_depth) return true;
+        const float survive = std::min(0.95f, beta.max_value() * eta_scale * roulette_norm);
+        if (!(m_rng.uniform() < survive)) return false;
+        beta /= survive;
+        return true;
+    };
     while (static_cast<int>(path.size()) < max_vertices) {
-        ++m_stats.rays;
-        const std::optional<Hit> hit = m_scene.intersect(ray, m_time);
+        std::optional<Hit> hit;
+        float edge_T = 1.f;  // the hero's transmittance up to hit
+        if (m_media) {
+            const FreeFlight flight = free_flight(m_scene, ray, medium, lambda, m_rng, m_stats);
+            if (flight.chromatic) lambda.terminate_secondary();
+            beta *= flight.weight;
+            if (beta.is_zero()) break;
+            if (flight.scattered) {
+                if (!scatter_in_medium(flight, beta, lambda, max_vertices, path, ray, pdf_fwd) || !survives_roulette())
+                    break;
+                continue;
+            }
+            hit = flight.hit;
+            edge_T = flight.T_hero;
+        } else {
+            ++m_stats.rays;
+            hit = m_scene.intersect(ray, m_time);
+        }
         if (!hit) {
             // A camera path that escapes ends on the environment, a light vertex at infinity.
             if (mode == Transport::radiance && m_scene.effects.background) {
@@ -150,7 +193,8 @@ void Bdpt::random_walk(Ray ray, SampledSpectrum beta, float pdf_dir, int max_ver
                 env.dir = ray.d;
                 env.beta = beta;
                 env.terminated = lambda.secondary_terminated();
-                env.pdf_fwd = pdf_fwd;  // solid angle (convert_density keeps it)
+                env.pdf_fwd = pdf_fwd * edge_T;  // solid angle (convert_density keeps it)
+                env.edge_T = edge_T;
                 path.push_back(env);
             }
             break;
@@ -160,7 +204,8 @@ void Bdpt::random_walk(Ray ray, SampledSpectrum beta, float pdf_dir, int max_ver
         v.wo = -ray.d;
         v.beta = beta;
         v.terminated = lambda.secondary_terminated();
-        v.pdf_fwd = convert_density(pdf_fwd, path.back(), v);
+        v.edge_T = edge_T;
+        v.pdf_fwd = convert_density(pdf_fwd, path.back(), v) * edge_T;
         path.push_back(v);
         const Material& mat = m_scene.materials[hit->material];
         if (!mat.reflects() || static_cast<int>(path.size()) == max_vertices) break;
@@ -184,22 +229,46 @@ void Bdpt::random_walk(Ray ray, SampledSpectrum beta, float pdf_dir, int max_ver
         if (mode == Transport::radiance) eta_scale *= bs->eta_scale;
         // Importance with shading normals: the adjoint's cosine factors (Veach 1997, §5.3).
         if (mode == Transport::importance) beta *= shading_correction(cur.hit, cur.wo, bs->wi);
-        prev.pdf_rev = convert_density(pdf_rev, cur, prev);
+        prev.pdf_rev = convert_density(pdf_rev, cur, prev) * cur.edge_T;
         ray = spawn_ray(cur.hit, bs->wi);
-
-        // Roulette on throughput relative to the subpath's start (light paths start at power).
-        if (settings.roulette && ++bounces >= settings.roulette_depth) {
-            const float survive = std::min(0.95f, beta.max_value() * eta_scale * roulette_norm);
-            if (!(m_rng.uniform() < survive)) break;
-            beta /= survive;
-        }
+        if (m_media) medium = m_scene.medium_interface(cur.hit.prim).after(cur.hit.n, bs->wi);
+        if (!survives_roulette()) break;
     }
+}
+
+/// Appends the medium vertex where free flight scattered and samples the phase function
+/// there (exactly: the throughput is unchanged), giving the next ray and its density.
+/// False when the subpath ends at the vertex.
+bool Bdpt::scatter_in_medium(const FreeFlight& flight, const SampledSpectrum& beta, const SampledWavelengths& lambda,
+                             int max_vertices, std::vector<Vertex>& path, Ray& ray, float& pdf_fwd) {
+    Vertex v;
+    v.type = VertexType::medium;
+    v.hit.p = flight.p;  // no normal: rays leave it without offset
+    v.medium = flight.medium;
+    v.sigma_t = flight.sigma_t_hero;
+    v.edge_T = flight.T_hero;
+    v.wo = -ray.d;
+    v.beta = beta;
+    v.terminated = lambda.secondary_terminated();
+    v.pdf_fwd = convert_density(pdf_fwd, path.back(), v) * v.edge_T;
+    path.push_back(v);
+    if (static_cast<int>(path.size()) == max_vertices) return false;
+    const HenyeyGreenstein& phase = m_scene.media[static_cast<std::size_t>(v.medium)].phase;
+    const float u1 = m_rng.uniform(), u2 = m_rng.uniform();
+    const Vec3 wi = phase.sample(v.wo, u1, u2);
+    pdf_fwd = phase.eval(v.wo, wi);
+    Vertex& prev = path[path.size() - 2];
+    prev.pdf_rev = convert_density(phase.eval(wi, v.wo), path.back(), prev) * v.edge_T;
+    ray = {v.p(), wi, kInfinity};
+    return true;
 }
 
 /// f·|cos| at surface vertex v between v.wo and wi: radiance mode at camera vertices (light
 /// arrives from wi), importance mode at light vertices (light arrives from v.wo and leaves
 /// along wi: the adjoint BSDF, which differs from f where refraction scales radiance).
 SampledSpectrum Bdpt::f_cos(const Vertex& v, const Vec3& wi, const SampledWavelengths& lambda, Transport mode) const {
+    if (v.type == VertexType::medium)  // the phase function (σs is in the throughput)
+        return SampledSpectrum(m_scene.media[static_cast<std::size_t>(v.medium)].phase.eval(v.wo, wi));
     return bsdf_eval(bsdf_at(m_scene, v.hit), v.wo, wi, v.hit.ns, lambda, mode);
 }
 
@@ -207,7 +276,9 @@ float Bdpt::light_direction_pdf(const Vertex& light, const Vertex& next) const {
     if (light.infinite)  // the disk point on the ray that reaches `next`
         return convert_density(m_ctx.lights.environment_position_pdf(next.p(), -light.dir), light, next);
     const Vec3 w = normalize(next.p() - light.p());
-    const float pdf_dir = light.on_surface() ? two_sided_direction_pdf(light.hit.n, w) : 1.f / (4.f * kPi);
+    float pdf_dir = light.on_surface() ? two_sided_direction_pdf(light.hit.n, w) : 1.f / (4.f * kPi);
+    if (const SpotLight* spot = spot_of(m_scene, light))  // uniform over its cone
+        pdf_dir = dot(w, spot->direction) >= spot->cos_cone ? 1.f / (2.f * kPi * (1.f - spot->cos_cone)) : 0.f;
     return convert_density(pdf_dir, light, next);
 }
 
@@ -220,6 +291,8 @@ float Bdpt::pdf(const Vertex& v, const Vertex* prev, const Vertex& next) const {
         return convert_density(m_ctx.camera.direction_pdf(dot(wn, m_ctx.camera.forward())), v, next);
     }
     const Vec3 wp = direction(v, *prev);
+    if (v.type == VertexType::medium)
+        return convert_density(m_scene.media[static_cast<std::size_t>(v.medium)].phase.eval(wp, wn), v, next);
     return convert_density(bsdf_pdf(bsdf_at(m_scene, v.hit), wp, wn, v.hit.ns, m_hero), v, next);
 }
 
@@ -228,7 +301,7 @@ float Bdpt::pdf(const Vertex& v, const Vertex* prev, const Vertex& next) const {
 /// vertices are mapped to 1 and those strategies skipped. A camera vertex next to the
 /// environment that its disk cannot reach (environment_position_pdf 0) is a true zero: no
 /// strategy whose light subpath includes it exists, and the walk stops before it.
-float Bdpt::mis_weight(int s, int t) {
+float Bdpt::mis_weight(int s, int t, float t_conn) {
     if (s + t == 2) return 1.f;
     Vertex* qs = s > 0 ? &m_light[s - 1] : nullptr;
     Vertex* pt = &m_camera[t - 1];
@@ -240,14 +313,14 @@ float Bdpt::mis_weight(int s, int t) {
                             qs_minus ? qs_minus->pdf_rev : 0.f};
     const bool saved_delta[2] = {pt->delta, qs ? qs->delta : false};
     if (s > 0) {
-        pt->pdf_rev = pdf(*qs, qs_minus, *pt);
-        if (pt_minus) pt_minus->pdf_rev = pdf(*pt, qs, *pt_minus);
-        qs->pdf_rev = pdf(*pt, pt_minus, *qs);
-        if (qs_minus) qs_minus->pdf_rev = pdf(*qs, pt, *qs_minus);
+        pt->pdf_rev = pdf(*qs, qs_minus, *pt) * t_conn;
+        if (pt_minus) pt_minus->pdf_rev = pdf(*pt, qs, *pt_minus) * pt->edge_T;
+        qs->pdf_rev = pdf(*pt, pt_minus, *qs) * t_conn;
+        if (qs_minus) qs_minus->pdf_rev = pdf(*qs, pt, *qs_minus) * qs->edge_T;
         qs->delta = false;
     } else {
         pt->pdf_rev = pt->infinite ? m_ctx.lights.environment_pdf() : m_ctx.lights.origin_pdf(pt->hit);
-        if (pt_minus) pt_minus->pdf_rev = light_direction_pdf(*pt, *pt_minus);
+        if (pt_minus) pt_minus->pdf_rev = light_direction_pdf(*pt, *pt_minus) * pt->edge_T;
     }
     pt->delta = false;
     int camera_stop = 0;  // camera vertices i > camera_stop may belong to the light subpath
@@ -350,6 +423,15 @@ bool Bdpt::visible(const Vertex& a, const Vertex& b) {
     return !m_scene.occluded(ray, -1, m_time);
 }
 
+Transmittance Bdpt::transmittance(const Vertex& a, const Vertex& b) {
+    const Ray ray = b.infinite ? spawn_ray(a.hit, b.dir)
+                               : spawn_ray_between(a.p(), a.hit.p_err, a.hit.n, b.p(), b.hit.p_err, b.hit.n);
+    if (!(ray.t_max > 0.f)) return {SampledSpectrum(0.f), false};
+    const int medium = a.type == VertexType::medium ? a.medium
+                                                     : m_scene.medium_interface(a.hit.prim).after(a.hit.n, ray.d);
+    return connection_transmittance(m_scene, ray, medium, m_lambda, m_stats);
+}
+
 int Bdpt::max_depth() const {
     const int d = m_ctx.settings.max_depth;
     return d == IntegratorSettings::kUnbounded ? INT_MAX / 4 : d;
@@ -372,22 +454,27 @@ void Bdpt::trace_light() {
         v.beta = o->Le / o->pdf_dir;
         v.pdf_fwd = o->pdf_dir;
         m_light.push_back(v);
+        const int medium = m_media ? medium_at(m_scene, m_ctx.camera.origin(), o->p, m_stats) : -1;
         if (!o->blocked)
             random_walk({o->p, o->w, kInfinity}, o->Le / (o->pdf_pos * o->pdf_dir), o->pdf_pos, max_depth() + 1,
-                        Transport::importance, lambda_light, m_light);
+                        Transport::importance, lambda_light, m_light, medium);
         return;
     }
     v.hit.p = o->p;
     v.hit.p_err = o->p_err;
     v.hit.n = o->n;
+    v.hit.light = o->light;
     v.beta = o->Le / o->pdf_pos;
+    // A spot's falloff belongs to each direction (Le has the sampled one's): s = 1 applies it.
+    if (const SpotLight* spot = spot_of(m_scene, v)) v.beta = spot->intensity.sample(lambda_light) / o->pdf_pos;
     v.pdf_fwd = o->pdf_pos;
     v.delta_light = o->delta_position;
     m_light.push_back(v);
     const float cos_o = o->delta_position ? 1.f : std::fabs(dot(o->n, o->w));
     const SampledSpectrum beta = o->Le * (cos_o / (o->pdf_pos * o->pdf_dir));
     const Ray ray{offset_ray_origin(o->p, o->p_err, o->n, o->w), o->w, kInfinity};
-    random_walk(ray, beta, o->pdf_dir, max_depth() + 1, Transport::importance, lambda_light, m_light);
+    const int medium = m_media ? medium_at(m_scene, m_ctx.camera.origin(), ray.o, m_stats) : -1;
+    random_walk(ray, beta, o->pdf_dir, max_depth() + 1, Transport::importance, lambda_light, m_light, medium);
 }
 
 void Bdpt::trace_camera(const Ray* camera_ray) {
@@ -401,7 +488,7 @@ void Bdpt::trace_camera(const Ray* camera_ray) {
     if (!camera_ray) return;
     const float pdf_dir = m_ctx.camera.direction_pdf(dot(camera_ray->d, m_ctx.camera.forward()));
     random_walk(*camera_ray, SampledSpectrum(1.f), pdf_dir, max_depth() + 2, Transport::radiance,
-                lambda_camera, m_camera);
+                lambda_camera, m_camera, m_scene.camera_medium);
 }
 
 void Bdpt::splat_light_tracing(std::vector<Splat>& splats) {
@@ -426,15 +513,22 @@ void Bdpt::splat_light_tracing(std::vector<Splat>& splats) {
         float px, py;
         if (!m_ctx.camera.raster_position(pt.p(), -w_cam, px, py)) continue;
         const float cos_cam = dot(-w_cam, m_ctx.camera.forward());
-        SampledSpectrum c = qs.beta * (m_ctx.camera.importance(cos_cam) * cos_cam / dist2);
-        if (qs.type == VertexType::surface)
-            c *= f_cos(qs, w_cam, lambda_for(qs.terminated), Transport::importance) *
+        bool terminated = qs.terminated;
+        Transmittance tr;  // without media: 1, and visibility is tested below
+        if (m_media) {
+            tr = transmittance(qs, pt);
+            if (tr.T.is_zero()) continue;
+            terminated |= tr.chromatic;
+        }
+        SampledSpectrum c = qs.beta * tr.T * (m_ctx.camera.importance(cos_cam) * cos_cam / dist2);
+        if (scatters(qs))
+            c *= f_cos(qs, w_cam, lambda_for(terminated), Transport::importance) *
                  shading_correction(qs.hit, qs.wo, w_cam);
         else if (qs.on_surface()) c *= std::fabs(dot(qs.hit.n, w_cam));  // an area light's origin
-        if (c.is_zero() || !visible(qs, pt)) continue;
-        c *= mis_weight(s, 1);
+        if (c.is_zero() || (!m_media && !visible(qs, pt))) continue;
+        c *= mis_weight(s, 1, tr.T[0]);
         SampledWavelengths lw = m_lambda;
-        if (qs.terminated) lw.terminate_secondary();
+        if (terminated) lw.terminate_secondary();
         const Xyz xyz = m_ctx.observer->to_xyz(c, lw);
         const auto pixel = static_cast<std::uint32_t>(static_cast<int>(py) * m_ctx.width + static_cast<int>(px));
         splats.push_back({pixel, static_cast<float>(xyz.x), static_cast<float>(xyz.y), static_cast<float>(xyz.z)});
@@ -454,7 +548,7 @@ SampledSpectrum Bdpt::connect() {
             const int depth = s + t - 2;
             if (depth > max_depth()) continue;
             const Vertex& pt = m_camera[t - 1];
-            const bool terminated = pt.terminated || (s > 0 && m_light[s - 1].terminated);
+            bool terminated = pt.terminated || (s > 0 && m_light[s - 1].terminated);
             if (pt.infinite) {
                 // The camera path escaped: only s = 0 ends on the environment. Weight 1 when
                 // the environment is not a light of the sampler (no power in 380–780 nm).
@@ -476,14 +570,23 @@ SampledSpectrum Bdpt::connect() {
             }
             const Vertex& qs = m_light[s - 1];
             if (!connectible(qs) || !connectible(pt)) continue;
+            Transmittance tr;  // without media: 1, and visibility is tested below
+            if (m_media) {
+                tr = transmittance(pt, qs);
+                if (tr.T.is_zero()) continue;
+                terminated |= tr.chromatic;
+            }
             if (qs.infinite) {
                 // s = 1 on the environment: towards the light subpath's direction (uniform over
                 // the sphere, density environment_pdf), unoccluded to infinity.
-                SampledSpectrum c = qs.beta * pt.beta * f_cos(pt, qs.dir, lambda_for(terminated), Transport::radiance);
+                SampledSpectrum c =
+                    qs.beta * pt.beta * tr.T * f_cos(pt, qs.dir, lambda_for(terminated), Transport::radiance);
                 if (c.is_zero()) continue;
-                ++m_stats.rays;
-                if (m_scene.occluded(spawn_ray(pt.hit, qs.dir), -1, m_time)) continue;
-                accumulate(c * mis_weight(1, t), terminated);
+                if (!m_media) {
+                    ++m_stats.rays;
+                    if (m_scene.occluded(spawn_ray(pt.hit, qs.dir), -1, m_time)) continue;
+                }
+                accumulate(c * mis_weight(1, t, tr.T[0]), terminated);
                 continue;
             }
             const Vec3 d = qs.p() - pt.p();
@@ -491,12 +594,13 @@ SampledSpectrum Bdpt::connect() {
             if (!(dist2 > 0.f)) continue;
             const Vec3 w_pt = d / std::sqrt(dist2);  // from pt towards qs
             const SampledWavelengths& lw = lambda_for(terminated);
-            SampledSpectrum c = qs.beta * pt.beta * f_cos(pt, w_pt, lw, Transport::radiance) / dist2;
-            if (qs.type == VertexType::surface)
+            SampledSpectrum c = qs.beta * pt.beta * tr.T * f_cos(pt, w_pt, lw, Transport::radiance) / dist2;
+            if (scatters(qs))
                 c *= f_cos(qs, -w_pt, lw, Transport::importance) * shading_correction(qs.hit, qs.wo, -w_pt);
             else if (qs.on_surface()) c *= std::fabs(dot(qs.hit.n, w_pt));  // an area light's origin
-            if (c.is_zero() || !visible(pt, qs)) continue;
-            accumulate(c * mis_weight(s, t), terminated);
+            else if (const SpotLight* spot = spot_of(m_scene, qs)) c *= spot->falloff(-w_pt);
+            if (c.is_zero() || (!m_media && !visible(pt, qs))) continue;
+            accumulate(c * mis_weight(s, t, tr.T[0]), terminated);
         }
     }
     return result();

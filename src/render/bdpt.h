@@ -26,6 +26,10 @@
 // refraction (on either side) keeps only the hero wavelength, weighted as after
 // terminate_secondary(); the others keep all four. The MIS densities are those of the hero
 // wavelength (lobe choice included), the same function for every strategy.
+//
+// Participating media (homogeneous; bdpt_media.h): scattering points in a medium are vertices
+// of either subpath, and every connection carries the transmittance between its ends. Spot
+// lights start light subpaths like point lights, with directions uniform over their cone.
 #pragma once
 #include <cstdint>
 #include <vector>

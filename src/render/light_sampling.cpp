@@ -34,6 +34,7 @@ std::optional<LightOrigin> LightSampler::sample(const SampledWavelengths& lambda
         o.Le = env->Le.sample(lambda);
         o.pdf_pos = 1.f / (kPi * m_radius * m_radius);
         o.pdf_dir = choice * (0.25f * kInvPi);
+        o.light = index;
         // Upstream of the disk lies only what is unbounded: a plane there hides the environment.
         const Ray upstream{o.p, -o.w, kInfinity};
         for (const Plane& plane : m_scene.planes) o.blocked |= plane.intersect_t(upstream) < kInfinity;
@@ -43,6 +44,13 @@ std::optional<LightOrigin> LightSampler::sample(const SampledWavelengths& lambda
         LightOrigin o = point->sample_le(lambda, u1, u2);
         o.p = point->position_at(time);
         o.pdf_pos *= choice;
+        o.light = index;
+        return o;
+    }
+    if (const SpotLight* spot = std::get_if<SpotLight>(&light)) {
+        LightOrigin o = spot->sample_le(lambda, u1, u2);
+        o.pdf_pos *= choice;
+        o.light = index;
         return o;
     }
     // An area light (planes are never chosen: they cannot start a subpath).
@@ -55,6 +63,7 @@ std::optional<LightOrigin> LightSampler::sample(const SampledWavelengths& lambda
         light);
     if (!o) return o;
     o->pdf_pos *= choice;
+    o->light = index;
     // An emission texture: its radiance at the point (uniform by area, so the densities stay).
     if (m_scene.light_textured(index)) o->Le = m_scene.light_point_emission(index, o->p, lambda);
     return o;

@@ -2,6 +2,8 @@
 //
 // What can start a light subpath:
 //   - point lights: a delta position, directions uniform over the sphere;
+//   - spot lights: a delta position, directions uniform over the cone (its falloff in the
+//     emitted intensity);
 //   - emitting shapes (spheres, quads, triangles, meshes, disks, cylinders, cones: one light
 //     per shape): a point uniform over the area, then a side (both sides emit) with
 //     probability 1/2 and a cosine-weighted direction on it;
@@ -10,7 +12,7 @@
 //     upstream of the centre of the scene's bounding sphere (centre c, radius R); the ray
 //     leaves the disk along d.
 // A light is chosen with probability proportional to its power (mean over 380–780 nm of
-// 4π·I for points, 2π·A·Le for two-sided area emitters, 4π·πR²·Le for the environment: the
+// 4π·I for points, the cone's share of it for spots, 2π·A·Le for two-sided area emitters, 4π·πR²·Le for the environment: the
 // flux through the disk from every direction). A camera path that hits an emitter finds its
 // light through the hit (Hit::light), and with it the density of that point.
 //

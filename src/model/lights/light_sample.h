@@ -45,6 +45,7 @@ struct LightOrigin {
     bool delta_position = false;
     bool environment = false;  ///< the constant environment: p is on the disk, w the direction
     bool blocked = false;      ///< environment: an infinite plane cuts the ray upstream of p
+    int light = -1;            ///< index in Scene::lights
 };
 
 /// Mean of a spectrum over 380–780 nm (41 samples): the "power" lights are chosen by.
