@@ -250,7 +250,7 @@ TEST_F(Cli, BadArgumentsExitTwoWithOneLineNamingTheFlag) {
         {{"cornell-fog", "--schedule", "wavefront"}, {"--schedule wavefront", "participating media", "tiles"}},
         {{"textured", "--schedule", "wavefront"}, {"--schedule wavefront", "textures"}},
         {{"--integrator", "bdpt", "--schedule", "wavefront"}, {"--schedule wavefront", "bdpt"}},
-        {{"--schedule", "wavefront"}, {"--schedule wavefront", "the sobol sampler", "--sampler independent"}},
+        {{"--sampler", "sobol", "--schedule", "wavefront"}, {"--schedule wavefront", "the sobol sampler", "--sampler independent"}},
     };
     for (const BadCase& c : cases) {
         // The bad arguments come last (so "missing value" cases really are at the end), after

@@ -135,12 +135,13 @@ Options:
                          stage). Path integrator with --sampler independent, no media
                          or textures. Does not change the image
   --seed S               random seed (0 to 2^64-1; default 0); same seed, same image
-  --sampler NAME         sobol (default: Owen-scrambled Sobol points per pixel, each number
-                         at a fixed dimension; the path integrator throughout, bdpt, vcm
-                         and media for the camera sample only) or independent (PCG32)
                          On SIGINT/SIGTERM the unfinished image is written beside each
                          output X.ext as X.partial.ext (X.ext is left as it was) and the
                          program exits with status 130/143.
+  --sampler NAME         independent (default: PCG32 numbers) or sobol (Owen-scrambled
+                         Sobol points per pixel, each number at a fixed dimension; the path
+                         integrator throughout, bdpt, vcm and media for the camera sample
+                         only: lower error at equal samples, more time per path)
   --wavelengths-per-path K   4 (default: hero wavelength set) or 1 (hero alone)
   --no-dispersion        give dispersive glass its mean index over 380-780 nm (to measure
                          what dispersion costs)

@@ -15,9 +15,11 @@ namespace spt {
 /// sample (pixel position, wavelength, lens, time) from it and the rest from its PCG stream.
 enum class SamplerKind { independent, sobol };
 
-/// The default: at equal samples it has the lower error on cornell, cornell-point and
-/// cornell-sphere at 16, 64 and 256 spp (by 1.1x to 2x; validation/results/sampler_convergence.md).
-inline constexpr SamplerKind kDefaultSampler = SamplerKind::sobol;
+/// The default: Sobol has the lower error at equal samples on cornell, cornell-point and
+/// cornell-sphere (1.1x to 2x at 16, 64 and 256 spp; validation/results/sampler_convergence.md),
+/// but on cornell it takes 1.57x the time per path (256x256x128, 1 thread, min of 5
+/// interleaved), so at equal time the independent sampler still wins there.
+inline constexpr SamplerKind kDefaultSampler = SamplerKind::independent;
 
 constexpr const char* sampler_name(SamplerKind kind) {
     return kind == SamplerKind::sobol ? "sobol" : "independent";
