@@ -82,6 +82,11 @@ def reference_integrator(scene: str) -> str:
     return "path" if scene == "cornell" else "bdpt"
 
 
+def ratio(a: float, b: float) -> float:
+    """a / b, or NaN where b is 0 (quick mode's tiny renders can time as 0 s or score 0)."""
+    return a / b if b else math.nan
+
+
 def say(*args: object) -> None:
     print(*args, flush=True)
 
@@ -309,7 +314,7 @@ def materials(r: Renderer, p: dict, figs: Path, scratch: Path) -> dict:
         box = (slice(int(0.52 * n), int(0.92 * n)), slice(int(0.3 * n), int(0.7 * n)))
         e_sphere = float(np.mean((x.image[box] - ref[box]) ** 2 / accuracy_cost.w_of(ref[box])))
         out[name] = {"relmse": e, "relmse_sphere": e_sphere, "seconds": x.seconds,
-                     "efficiency": 1 / (e * x.seconds) if e > 0 else math.inf}
+                     "efficiency": ratio(1.0, e * x.seconds) if e > 0 else math.inf}
         rows.append(f"| {name} | {e:.4g} | {e_sphere:.4g} | {x.seconds:.2f} | {out[name]['efficiency']:.3g} |")
         imgs.append(load_png(x.png))
         titles.append(f"{name}: relMSE {e:.3g}")
@@ -382,9 +387,9 @@ def point_caustic(r: Renderer, p: dict, figs: Path) -> dict:
         e = rel_mse(x.image, ref, noise)
         box_lum = float((x.image[box] @ lum).mean())
         out[integ] = {"relmse": e, "spp": x.spp, "seconds": x.seconds, "box_luminance": box_lum,
-                      "box_ratio": box_lum / out["reference_box_luminance"]}
+                      "box_ratio": ratio(box_lum, out["reference_box_luminance"])}
         imgs.append(load_png(x.png))
-        titles.append(f"{integ}: {x.spp} spp, {x.seconds:.1f} s\nrelMSE {e:.3g}, caustic box {box_lum / out['reference_box_luminance']:.0%}")
+        titles.append(f"{integ}: {x.spp} spp, {x.seconds:.1f} s\nrelMSE {e:.3g}, caustic box {out[integ]['box_ratio']:.0%}")
     panels(figs / "point_caustic.png", imgs, titles, inset=CAUSTIC_BOX)
     out["seconds"], out["size"] = p["caustic_seconds"], n
     return out
@@ -409,7 +414,7 @@ def extensions(r: Renderer, p: dict, figs: Path, refs: dict) -> dict:
         t[threads] = r.render("cornell", width=n, height=n, spp=spp, seed=21)
         r.threads = saved
     out["threads"] = {"seconds_1": t[1].seconds, "seconds_2": t[2].seconds,
-                      "speedup": t[1].seconds / t[2].seconds,
+                      "speedup": ratio(t[1].seconds, t[2].seconds),
                       "identical": "yes" if np.array_equal(t[1].image, t[2].image) else "no"}
 
     # Hero wavelengths: 1 against 4 wavelengths per path, equal spp (cornell's reference).
@@ -418,7 +423,7 @@ def extensions(r: Renderer, p: dict, figs: Path, refs: dict) -> dict:
           for k in (1, 4)}
     out["hero"] = {f"relmse_{k}": rel_mse(x.image, ref, noise) for k, x in wl.items()}
     out["hero"].update({f"seconds_{k}": x.seconds for k, x in wl.items()})
-    out["hero"]["ratio"] = out["hero"]["relmse_1"] / out["hero"]["relmse_4"]
+    out["hero"]["ratio"] = ratio(out["hero"]["relmse_1"], out["hero"]["relmse_4"])
     panels(figs / "hero_wavelengths.png", [load_png(wl[1].png), load_png(wl[4].png)],
            [f"1 wavelength/path: relMSE {out['hero']['relmse_1']:.3g}",
             f"4 (hero + 3): relMSE {out['hero']['relmse_4']:.3g}"], inset=(0.3, 0.3, 0.4, 0.3))
@@ -451,8 +456,8 @@ def extensions(r: Renderer, p: dict, figs: Path, refs: dict) -> dict:
                                     "relmse_trimmed": bdpt_compare.rel_mse_trimmed(x.image, ref)}
                                 for i, x in pv.items()}
     for i in ("bdpt", "vcm"):
-        out["prism_integrators"][i]["gain"] = (out["prism_integrators"]["path"]["relmse"]
-                                               / out["prism_integrators"][i]["relmse"])
+        out["prism_integrators"][i]["gain"] = ratio(out["prism_integrators"]["path"]["relmse"],
+                                                    out["prism_integrators"][i]["relmse"])
     panels(figs / "prism_integrators.png", [load_png(x.png) for x in pv.values()],
            [f"{i}: {x.spp} spp, {x.seconds:.1f} s, relMSE {out['prism_integrators'][i]['relmse']:.3g}"
             for i, x in pv.items()])
