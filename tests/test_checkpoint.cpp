@@ -46,6 +46,24 @@ protected:
         args.insert(args.end(), more.begin(), more.end());
         return spawn(args, dir / "log");
     }
+    /// A render interrupted (SIGINT after 150 ms, checkpoints after every pass) and resumed
+    /// writes the image of a straight run: args_for(out) is the command line for output `out`.
+    template <class Args>
+    void expect_interrupted_resume_equals_straight(const Args& args_for, const std::string& scene) {
+        ASSERT_EQ(run(args_for("straight.pfm"), dir / "log"), 0) << read_file(dir / "log");
+        std::vector<std::string> args = args_for("resumed.pfm");
+        const std::string ck = (dir / "state.ckpt").string();
+        fs::remove(ck);
+        args.insert(args.end(), {"--checkpoint", ck, "--checkpoint-interval", "0"});
+        const pid_t pid = spawn(args, dir / "log");
+        std::this_thread::sleep_for(std::chrono::milliseconds(150));
+        kill(pid, SIGINT);
+        wait_exit(pid);
+        ASSERT_TRUE(fs::exists(ck)) << scene;
+        args.insert(args.end(), {"--resume", ck});
+        ASSERT_EQ(run(args, dir / "log"), 0) << read_file(dir / "log");
+        EXPECT_EQ(read_file(dir / "straight.pfm"), read_file(dir / "resumed.pfm")) << scene;
+    }
     fs::path dir;
 };
 
@@ -152,19 +170,7 @@ TEST_F(Checkpoint, ResumedThinLensAndMotionBlurRendersEqualStraightRuns) {
             std::replace(args.begin(), args.end(), std::string("24"), std::string("128"));  // --spp
             return args;
         };
-        ASSERT_EQ(run(args_for("straight.pfm"), dir / "log"), 0) << read_file(dir / "log");
-        std::vector<std::string> args = args_for("resumed.pfm");
-        const std::string ck = (dir / "state.ckpt").string();
-        fs::remove(ck);
-        args.insert(args.end(), {"--checkpoint", ck, "--checkpoint-interval", "0"});
-        const pid_t pid = spawn(args, dir / "log");
-        std::this_thread::sleep_for(std::chrono::milliseconds(150));
-        kill(pid, SIGINT);
-        wait_exit(pid);
-        ASSERT_TRUE(fs::exists(ck)) << scene;
-        args.insert(args.end(), {"--resume", ck});
-        ASSERT_EQ(run(args, dir / "log"), 0) << read_file(dir / "log");
-        EXPECT_EQ(read_file(dir / "straight.pfm"), read_file(dir / "resumed.pfm")) << scene;
+        expect_interrupted_resume_equals_straight(args_for, scene);
     }
 }
 
@@ -226,19 +232,7 @@ TEST_F(Checkpoint, ResumedSobolRendersEqualStraightRuns) {
             args.insert(args.end(), {"--sampler", "sobol", "--integrator", "path"});
             return args;
         };
-        ASSERT_EQ(run(args_for("straight.pfm"), dir / "log"), 0) << read_file(dir / "log");
-        std::vector<std::string> args = args_for("resumed.pfm");
-        const std::string ck = (dir / "state.ckpt").string();
-        fs::remove(ck);
-        args.insert(args.end(), {"--checkpoint", ck, "--checkpoint-interval", "0"});
-        const pid_t pid = spawn(args, dir / "log");
-        std::this_thread::sleep_for(std::chrono::milliseconds(150));
-        kill(pid, SIGINT);
-        wait_exit(pid);
-        ASSERT_TRUE(fs::exists(ck)) << scene;
-        args.insert(args.end(), {"--resume", ck});
-        ASSERT_EQ(run(args, dir / "log"), 0) << read_file(dir / "log");
-        EXPECT_EQ(read_file(dir / "straight.pfm"), read_file(dir / "resumed.pfm")) << scene;
+        expect_interrupted_resume_equals_straight(args_for, scene);
     }
 }
 
