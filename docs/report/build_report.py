@@ -32,6 +32,7 @@ import math
 import os
 import platform
 import re
+import resource
 import shutil
 import subprocess
 import sys
@@ -56,7 +57,7 @@ FULL = {
     "conv_spp": [1, 4, 16, 64, 256, 1024], "ref_spp": 16384,
     "material_spp": 64, "material_ref_spp": 4096, "equal_seconds": 30.0,
     "effects_size": 512, "effects_spp": 1024,
-    "caustic_seconds": 60.0, "caustic_ref_spp": 16384,
+    "caustic_seconds": 60.0, "prism_ref_spp": 16384,
     "extension_spp": 256, "gallery_width": 512, "gallery_spp": None,
     "chart_spp": 128, "chart_exact_spp": 2048, "chart_size": None, "chart_bins": (4, 8, 16, 32, 64),
     "accuracy_cost": ["--height", "256", "--integrators", "path", "bdpt", "vcm",
@@ -67,7 +68,7 @@ QUICK = {
     "conv_spp": [1, 2, 4, 8, 16], "ref_spp": 128,
     "material_spp": 4, "material_ref_spp": 64, "equal_seconds": 0.3,
     "effects_size": 48, "effects_spp": 8,
-    "caustic_seconds": 0.3, "caustic_ref_spp": 64,
+    "caustic_seconds": 0.3, "prism_ref_spp": 64,
     "extension_spp": 4, "gallery_width": 32, "gallery_spp": 2,
     "chart_spp": 4, "chart_exact_spp": 0, "chart_size": None, "chart_bins": (16,),
     "accuracy_cost": ["--quick", "--scenes", "cornell-point", "--integrators", "path", "bdpt", "vcm",
@@ -80,6 +81,13 @@ QUICK = {
 # plane that bdpt reaches by camera paths only, so there both are path tracing.
 def reference_integrator(scene: str) -> str:
     return "path" if scene == "cornell" else "bdpt"
+
+
+def canonical_reference(r: "Renderer", p: dict, scene: str) -> tuple[np.ndarray, float]:
+    """The long reference of a canonical scene at the report's size, shared by every section
+    (the render cache makes the second request a file read)."""
+    return r.reference(scene, width=p["size"], height=p["size"], spp=p["ref_spp"],
+                       integrator=reference_integrator(scene))
 
 
 def ratio(a: float, b: float) -> float:
@@ -104,41 +112,58 @@ class Render:
 
 
 class Renderer:
-    def __init__(self, program: Path, cache: Path, threads: int):
+    """Runs the program, caching each render by its command line under the program's sha.
+
+    With `fraction` < 1 (--estimate) every render runs at that fraction of its spp (time limits
+    likewise) into a cache of its own, and `projected` adds up what the full render would take
+    on idle cores: its CPU time scaled to the full spp, divided by the threads (CPU time, unlike
+    wall time, hardly depends on what else the machine runs), or its time limit."""
+
+    def __init__(self, program: Path, cache: Path, threads: int, fraction: float = 1.0):
         self.program = program
         self.sha = benchmark.sha256_file(program)
         self.version = subprocess.run([str(program), "--version"], capture_output=True, text=True,
                                       check=True).stdout.strip()
-        self.cache = cache / self.sha[:12]
+        self.fraction = fraction
+        self.cache = cache / (self.sha[:12] + ("" if fraction == 1 else f"-estimate-{fraction:g}"))
         self.cache.mkdir(parents=True, exist_ok=True)
         self.threads = threads
         self.seconds = 0.0
+        self.projected = 0.0
+        self._counted: set[str] = set()
 
     def render(self, scene: str | Path, *, width: int, height: int | None = None, spp: int = 16,
                seed: int = 0, integrator: str | None = None, time_limit: float | None = None,
                extra: tuple[str, ...] = ()) -> Render:
         """One render of a built-in scene (name) or scene file (Path), cached by its command."""
+        run_spp = spp if time_limit is not None else max(1, round(spp * self.fraction))
         flags = ["--width", str(width)] + (["--height", str(height)] if height else [])
-        flags += ["--spp", str(spp), "--seed", str(seed), "--threads", str(self.threads)]
+        flags += ["--spp", str(run_spp), "--seed", str(seed), "--threads", str(self.threads)]
         if integrator:
             flags += ["--integrator", integrator]
         if time_limit is not None:
-            flags += ["--time-limit", str(time_limit)]
+            flags += ["--time-limit", f"{time_limit * self.fraction:g}"]
         flags += list(extra)
         scene_id = Path(scene).read_text() if isinstance(scene, Path) else scene
         key = hashlib.sha256(json.dumps([scene_id, flags]).encode()).hexdigest()[:20]
         pfm, png, meta = (self.cache / f"{key}.{ext}" for ext in ("pfm", "png", "json"))
         if not meta.is_file():
             cmd = [str(self.program), str(scene), *flags, "-o", str(pfm), "-o", str(png)]
+            cpu0 = child_cpu_seconds()
             run = subprocess.run(cmd, capture_output=True, text=True)
+            cpu = child_cpu_seconds() - cpu0
             if run.returncode != 0:
                 raise RuntimeError(f"{' '.join(cmd)} failed ({run.returncode}):\n{run.stderr}")
             seconds = float(re.search(r"time ([0-9.]+) s,", run.stderr).group(1))
             stopped = re.search(r"stopped by --time-limit \S+ s after (\d+) of", run.stderr)
-            meta.write_text(json.dumps({"seconds": seconds, "spp": int(stopped.group(1)) if stopped else spp,
-                                        "command": cmd[1:]}))
+            meta.write_text(json.dumps({"seconds": seconds, "spp": int(stopped.group(1)) if stopped else run_spp,
+                                        "cpu_seconds": cpu, "command": cmd[1:]}))
             self.seconds += seconds
         m = json.loads(meta.read_text())
+        if key not in self._counted:
+            self._counted.add(key)
+            self.projected += (time_limit if time_limit is not None
+                               else m.get("cpu_seconds", 0.0) * spp / run_spp / self.threads)
         return Render(bdpt_compare.read_pfm(str(pfm)), png, m["seconds"], m["spp"])
 
     def reference(self, scene: str | Path, *, width: int, spp: int, integrator: str,
@@ -149,6 +174,12 @@ class Renderer:
                             integrator=integrator).image for i in (0, 1))
         ref = (a + b) / 2
         return ref, float(np.mean((a - b) ** 2 / accuracy_cost.w_of(ref)) / 4)
+
+
+def child_cpu_seconds() -> float:
+    """User + system CPU time of the finished child processes so far."""
+    u = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return u.ru_utime + u.ru_stime
 
 
 def rel_mse(x: np.ndarray, ref: np.ndarray, noise: float = 0.0) -> float:
@@ -239,13 +270,9 @@ def convergence(r: Renderer, p: dict, figs: Path) -> dict:
     import matplotlib.pyplot as plt
     out = {}
     series = [("cornell", "path"), ("cornell-point", "path"), ("cornell-point", "bdpt"), ("cornell-sphere", "path")]
-    refs = {}
     fig, ax = plt.subplots(figsize=(6.4, 4.4))
     for scene, integ in series:
-        if scene not in refs:
-            refs[scene] = r.reference(scene, width=p["size"], height=p["size"], spp=p["ref_spp"],
-                                      integrator=reference_integrator(scene))
-        ref, noise = refs[scene]
+        ref, noise = canonical_reference(r, p, scene)
         pts = []
         for spp in p["conv_spp"]:
             x = r.render(scene, width=p["size"], height=p["size"], spp=spp, seed=1000 + spp, integrator=integ)
@@ -271,7 +298,6 @@ def convergence(r: Renderer, p: dict, figs: Path) -> dict:
     ax.legend(fontsize=7)
     fig.tight_layout()
     save_figure(fig, figs / "convergence.png")
-    out["_refs"] = refs
     out["spp_min"], out["spp_max"] = min(p["conv_spp"]), max(p["conv_spp"])
     out["spp_range"] = f"{out['spp_min']}–{out['spp_max']}"
     out["ref_spp"] = p["ref_spp"]
@@ -328,18 +354,16 @@ def materials(r: Renderer, p: dict, figs: Path, scratch: Path) -> dict:
     return out
 
 
-def lights(r: Renderer, p: dict, figs: Path, refs: dict) -> dict:
+def lights(r: Renderer, p: dict, figs: Path) -> dict:
     """Point, sphere and quad light of the same power at equal render time (path tracing)."""
     out, imgs, titles = {}, [], []
     n = p["size"]
     for scene in ("cornell-point", "cornell-sphere", "cornell-quad"):
-        if scene not in refs:
-            refs[scene] = r.reference(scene, width=n, height=n, spp=p["ref_spp"], integrator="bdpt")
-        ref, noise = refs[scene]
+        ref, noise = canonical_reference(r, p, scene)
         x = r.render(scene, width=n, height=n, spp=1_000_000, seed=11, integrator="path",
                      time_limit=p["equal_seconds"], extra=("--pass-spp", "1"))
         e = rel_mse(x.image, ref, noise)
-        out[scene] = {"relmse": e, "spp": x.spp, "seconds": x.seconds}
+        out[scene] = {"relmse": e, "spp": x.spp, "seconds": x.seconds, "reference_noise": noise}
         imgs.append(load_png(x.png))
         titles.append(f"{scene}: {x.spp} spp in {x.seconds:.1f} s\nrelMSE {e:.3g}")
     panels(figs / "lights_equal_time.png", imgs, titles)
@@ -373,8 +397,8 @@ def gi_effects(r: Renderer, p: dict, figs: Path) -> dict:
 def point_caustic(r: Renderer, p: dict, figs: Path) -> dict:
     """cornell-point at equal time with path, bdpt and vcm: the point light's caustic through
     the glass sphere. Mean luminance of the caustic box against bdpt's reference."""
-    n = p["effects_size"]
-    ref, noise = r.reference("cornell-point", width=n, height=n, spp=p["caustic_ref_spp"], integrator="bdpt")
+    n = p["size"]
+    ref, noise = canonical_reference(r, p, "cornell-point")
     x0, y0, bw, bh = CAUSTIC_BOX
     box = (slice(int(y0 * n), int((y0 + bh) * n)), slice(int(x0 * n), int((x0 + bw) * n)))
     lum = np.array([0.2126, 0.7152, 0.0722])
@@ -395,14 +419,14 @@ def point_caustic(r: Renderer, p: dict, figs: Path) -> dict:
     return out
 
 
-def supports(r: Renderer, flags: list[str]) -> bool:
-    """Whether the program accepts these flags (a one-pixel render)."""
-    run = subprocess.run([str(r.program), "cornell", "--width", "1", "--height", "1", "--spp", "1", "--quiet",
+def supports(r: Renderer, flags: list[str], scene: str = "cornell") -> bool:
+    """Whether the program accepts these flags for `scene` (a one-pixel render)."""
+    run = subprocess.run([str(r.program), scene, "--width", "1", "--height", "1", "--spp", "1", "--quiet",
                           "-o", str(r.cache / "probe.pfm"), *flags], capture_output=True, text=True)
     return run.returncode == 0
 
 
-def extensions(r: Renderer, p: dict, figs: Path, refs: dict) -> dict:
+def extensions(r: Renderer, p: dict, figs: Path) -> dict:
     """Side-by-side comparisons where the program has a switch for the extension."""
     n, spp = p["size"], p["extension_spp"]
     out = {}
@@ -418,7 +442,7 @@ def extensions(r: Renderer, p: dict, figs: Path, refs: dict) -> dict:
                       "identical": "yes" if np.array_equal(t[1].image, t[2].image) else "no"}
 
     # Hero wavelengths: 1 against 4 wavelengths per path, equal spp (cornell's reference).
-    ref, noise = refs["cornell"]
+    ref, noise = canonical_reference(r, p, "cornell")
     wl = {k: r.render("cornell", width=n, height=n, spp=spp, seed=22, extra=("--wavelengths-per-path", str(k)))
           for k in (1, 4)}
     out["hero"] = {f"relmse_{k}": rel_mse(x.image, ref, noise) for k, x in wl.items()}
@@ -429,7 +453,7 @@ def extensions(r: Renderer, p: dict, figs: Path, refs: dict) -> dict:
             f"4 (hero + 3): relMSE {out['hero']['relmse_4']:.3g}"], inset=(0.3, 0.3, 0.4, 0.3))
 
     # Light sampling on a small sphere light: BSDF sampling alone, light sampling alone, MIS.
-    ref, noise = refs["cornell-sphere"]
+    ref, noise = canonical_reference(r, p, "cornell-sphere")
     ls = {m: r.render("cornell-sphere", width=n, height=n, spp=spp, seed=23, extra=("--light-sampling", m))
           for m in ("bsdf", "light", "mis")}
     out["light_sampling"] = {m: {"relmse": rel_mse(x.image, ref, noise), "seconds": x.seconds} for m, x in ls.items()}
@@ -446,7 +470,7 @@ def extensions(r: Renderer, p: dict, figs: Path, refs: dict) -> dict:
            [f"dispersion (Sellmeier BK7), {dp[True].seconds:.1f} s", f"--no-dispersion, {dp[False].seconds:.1f} s"])
 
     # bdpt and vcm on a caustic seen through glass (equal time; bdpt reference).
-    ref, noise = r.reference("prism", width=w, spp=p["caustic_ref_spp"], integrator="bdpt")
+    ref, noise = r.reference("prism", width=w, spp=p["prism_ref_spp"], integrator="bdpt")
     pv = {}
     for integ in ("path", "bdpt", "vcm"):
         extra = ("--pass-spp", "1") if integ != "vcm" else ()
@@ -462,37 +486,80 @@ def extensions(r: Renderer, p: dict, figs: Path, refs: dict) -> dict:
            [f"{i}: {x.spp} spp, {x.seconds:.1f} s, relMSE {out['prism_integrators'][i]['relmse']:.3g}"
             for i, x in pv.items()])
 
-    # The sampler (issue of its own): compared when the program has the flag.
+    # The sampler: independent random numbers against Owen-scrambled Sobol, equal spp.
     if supports(r, ["--sampler", "sobol"]):
-        ref, noise = refs["cornell"]
+        ref, noise = canonical_reference(r, p, "cornell")
         sm = {s: r.render("cornell", width=n, height=n, spp=spp, seed=26, extra=("--sampler", s))
-              for s in ("independent", "sobol") if supports(r, ["--sampler", s])}
+              for s in ("independent", "sobol")}
         out["sampler"] = {s: {"relmse": rel_mse(x.image, ref, noise), "seconds": x.seconds} for s, x in sm.items()}
+        ind, sob = out["sampler"]["independent"], out["sampler"]["sobol"]
+        out["sampler"].update({"available": "yes", "relmse_ratio": ratio(ind["relmse"], sob["relmse"]),
+                               "time_ratio": ratio(sob["seconds"], ind["seconds"]),
+                               "efficiency_ratio": ratio(ind["relmse"] * ind["seconds"], sob["relmse"] * sob["seconds"])})
         panels(figs / "sampler.png", [load_png(x.png) for x in sm.values()],
-               [f"--sampler {s}: relMSE {out['sampler'][s]['relmse']:.3g}" for s in sm])
-        out["sampler"]["available"] = "yes"
+               [f"--sampler {s}: relMSE {out['sampler'][s]['relmse']:.3g}, {x.seconds:.1f} s" for s, x in sm.items()])
     else:
-        out["sampler"] = {"available": "not in the program this report was built with"}
+        out["sampler"] = {"available": "no"}
+
+    # The wavefront schedule against tiles: same image, time per pass.
+    if supports(r, ["--schedule", "wavefront"]):
+        wf = {s: r.render("cornell", width=n, height=n, spp=spp, seed=27, extra=("--schedule", s))
+              for s in ("tiles", "wavefront")}
+        out["wavefront"] = {"seconds_tiles": wf["tiles"].seconds, "seconds_wavefront": wf["wavefront"].seconds,
+                            "time_ratio": ratio(wf["wavefront"].seconds, wf["tiles"].seconds),
+                            "identical": "yes" if np.array_equal(wf["tiles"].image, wf["wavefront"].image) else "no"}
+    else:
+        out["wavefront"] = {"time_ratio": math.nan, "identical": "not in this program"}
+
+    # Participating media: which integrators the program accepts for a scene with a medium.
+    media_ok = [i for i in ("path", "bdpt", "vcm") if supports(r, ["--integrator", i], scene="cornell-fog")]
+    out["media"] = {"integrators": ", ".join(f"`{i}`" for i in media_ok) or "none",
+                    "refused": ", ".join(f"`{i}`" for i in ("path", "bdpt", "vcm") if i not in media_ok) or "none"}
+
+    # Textures and rough glass in every integrator: each integrator's mean luminance against
+    # path tracing's (same expected image; the ratio's distance from 1 is noise or a bias).
+    lum = np.array([0.2126, 0.7152, 0.0722])
+    for key, scene, size in (("textured", "textured", n), ("frosted", "frosted-glass", n)):
+        imgs = {i: r.render(scene, width=size, spp=spp, seed=28, integrator=i) for i in ("path", "bdpt", "vcm")}
+        means = {i: float((x.image @ lum).mean()) for i, x in imgs.items()}
+        out[key] = {f"{i}_vs_path": ratio(means[i], means["path"]) for i in ("bdpt", "vcm")}
+        out[key].update({f"seconds_{i}": x.seconds for i, x in imgs.items()})
+        panels(figs / f"{key}_integrators.png", [load_png(x.png) for x in imgs.values()],
+               [f"{i}: {x.seconds:.1f} s, mean / path {ratio(means[i], means['path']):.3f}" for i, x in imgs.items()])
     return out
 
 
 def gallery_section(r: Renderer, p: dict, figs: Path) -> dict:
+    """Every built-in scene at its own spp and integrator, `gallery_width` wide."""
     folder = figs / "gallery"
-    rows = gallery.render_gallery(r.program, folder, p["gallery_width"], spp=p["gallery_spp"],
-                                  threads=r.threads)
+    folder.mkdir(exist_ok=True)
     lines = ["| render | scene | size | spp | integrator | time (s) |", "|---|---|---|---|---|---:|"]
-    for g in rows:
-        lines.append(f"| ![{g['name']}](figures/gallery/{g['name']}.png) | `{g['name']}`: {g['summary']} | "
-                     f"{g['width']}×{g['height']} | {g['spp']} | {g['integrator']} | {g['seconds']:.1f} |")
-    return {"table": "\n".join(lines), "count": len(rows),
-            "times": {g["name"]: g["seconds"] for g in rows}}
+    times = {}
+    for name, w, h, scene_spp, integrator, summary in gallery.list_scenes(str(r.program)):
+        width = p["gallery_width"]
+        spp = p["gallery_spp"] or scene_spp
+        x = r.render(name, width=width, spp=spp, seed=0, integrator=integrator)
+        shutil.copyfile(x.png, folder / f"{name}.png")
+        times[name] = x.seconds
+        lines.append(f"| ![{name}](figures/gallery/{name}.png) | `{name}`: {summary} | "
+                     f"{width}×{round(width * h / w)} | {x.spp} | {integrator} | {x.seconds:.1f} |")
+    return {"table": "\n".join(lines), "count": len(times), "times": times}
+
+
+def scaled(spp: int, fraction: float) -> int:
+    return max(1, round(spp * fraction))
 
 
 def colour_section(r: Renderer, p: dict, figs: Path) -> dict:
     w, h = p["chart_size"] or (None, None)
-    results = [color_accuracy.evaluate(r.program, ill, p["chart_spp"], bin_counts=p["chart_bins"],
-                                       exact_spp=p["chart_exact_spp"] or None, width=w, height=h)
+    cpu0 = child_cpu_seconds()
+    f = r.fraction
+    results = [color_accuracy.evaluate(r.program, ill, scaled(p["chart_spp"], f), bin_counts=p["chart_bins"],
+                                       exact_spp=scaled(p["chart_exact_spp"], f) if p["chart_exact_spp"] else None,
+                                       width=w, height=h)
                for ill in color_accuracy.SCENES]
+    # Its renders use every core (the program's default threads): CPU time over the cores.
+    r.projected += (child_cpu_seconds() - cpu0) / f / (os.cpu_count() or 1)
     color_accuracy.plot(results, figs / "color_accuracy.png")
     save_png_optimized(figs / "color_accuracy.png")
     out = {}
@@ -509,6 +576,28 @@ def colour_section(r: Renderer, p: dict, figs: Path) -> dict:
     return out
 
 
+def scaled_accuracy_argv(argv: list[str], fraction: float) -> list[str]:
+    """accuracy_cost.py's arguments with every spp scaled by `fraction` (kept distinct, so the
+    study renders as many points; the CPU time then scales back by 1/fraction), into a
+    cache and output folder of their own."""
+    a = accuracy_cost.parse_args(argv)
+    spp = [max(1, round(s * fraction)) for s in a.spp]
+    for i in range(1, len(spp)):
+        spp[i] = max(spp[i], spp[i - 1] + 1)
+    bins = spp[a.spp.index(a.bins_spp)]
+    ref = max(2, round(max(a.ref_spp.values()) * fraction))
+    out = [w for w in argv]
+    for flag in ("--spp", "--bins-spp", "--reference-spp", "--out", "--cache-dir", "--run-tag"):
+        if flag in out:
+            i = out.index(flag) + 1
+            while i < len(out) and not out[i].startswith("--"):
+                del out[i]
+            del out[i - 1]
+    tag = f"estimate-{fraction:g}"
+    return out + ["--spp", *map(str, spp), "--bins-spp", str(bins), "--reference-spp", str(ref),
+                  "--out", str(a.out.parent / f"accuracy-{tag}"), "--cache-dir", str(a.cache_dir), "--run-tag", tag]
+
+
 def save_png_optimized(path: Path) -> None:
     from PIL import Image
     Image.open(path).convert("RGB").save(path, optimize=True)
@@ -519,7 +608,12 @@ def accuracy_section(r: Renderer, p: dict, figs: Path, cache: Path) -> dict:
     folder = figs.parent / "accuracy"
     argv = p["accuracy_cost"] + ["--program", str(r.program), "--out", str(folder),
                                  "--cache-dir", str(cache / "accuracy-cost")]
+    if r.fraction != 1:  # --estimate: every spp (sweep, bins, references) at the fraction
+        argv = scaled_accuracy_argv(argv, r.fraction)
+        folder = Path(argv[argv.index("--out") + 1])
+    cpu0 = child_cpu_seconds()
     accuracy_cost.main(argv)
+    r.projected += (child_cpu_seconds() - cpu0) / r.fraction / p["threads"]
     # One copy of the plot, with the other figures (accuracy/ keeps the study's table and data).
     shutil.move(folder / "accuracy_cost.png", figs / "accuracy_cost.png")
     save_png_optimized(figs / "accuracy_cost.png")
@@ -605,15 +699,94 @@ def git_commit() -> str:
         return "unknown (not a git checkout)"
 
 
+def measured_files(r: Renderer, p: dict, figs: Path) -> dict:
+    """Numbers the report quotes from measurements committed elsewhere (timings that need an
+    idle machine and an external library): the parallel strategies' table and the BVH against
+    Embree. Read from the files at build time, so the text follows them."""
+    out = {}
+    text = (ROOT / "validation" / "results" / "parallel_strategies.md").read_text()
+    rows = {}
+    header = None
+    for line in text.splitlines():
+        cells = [c.strip().strip("*") for c in line.strip().strip("|").split("|")]
+        if line.startswith("| variant"):
+            header = cells
+        elif header and line.startswith("|") and not line.startswith("|---") and len(cells) == len(header):
+            rows[cells[0]] = dict(zip(header[1:], (float(c) for c in cells[1:])))
+    tiles, wave = rows["tiles 32, mutex"], rows["wavefront, mutex"]
+    measured = re.search(r"\*\*Measured at ([^*]*?)\*\*", text)
+    out["parallel"] = {"note": measured.group(1).rstrip(".:") if measured else "see the file",
+                       "tiles_cornell_1": tiles["cornell 1T"], "tiles_cornell_2": tiles["cornell 2T"],
+                       "wavefront_cornell_1": wave["cornell 1T"], "wavefront_cornell_2": wave["cornell 2T"],
+                       "pixel_cornell_2": rows["tiles pixel, mutex"]["cornell 2T"],
+                       "scaling_cornell": ratio(tiles["cornell 2T"], tiles["cornell 1T"]),
+                       "wavefront_vs_tiles": {k: ratio(wave[k], tiles[k]) for k in tiles},
+                       "wavefront_vs_tiles_range": "{:.2f}–{:.2f}".format(
+                           min(ratio(wave[k], tiles[k]) for k in tiles), max(ratio(wave[k], tiles[k]) for k in tiles))}
+    # bench/README.md: one block per mesh, "N triangles (name)", then "build: ... (ours/Embree Rx)"
+    # and "SET  T thread(s): ... ours/Embree R".
+    text = (ROOT / "bench" / "README.md").read_text()
+    lines = ["| mesh | triangles | build | camera 1T | camera 2T | diffuse 1T | diffuse 2T | shadow 1T | shadow 2T |",
+             "|---|---:|---:|---:|---:|---:|---:|---:|---:|"]
+    meshes = {}
+    for block in re.split(r"\n(?=\d+ triangles \()", text)[1:]:
+        head = re.match(r"(\d+) triangles \(([^)]+)\)", block)
+        build = re.search(r"build: .*\(ours/Embree ([0-9.]+)x\)", block)
+        rays = dict(((m.group(1), m.group(2)), float(m.group(3))) for m in
+                    re.finditer(r"(camera|diffuse|shadow)\s+(\d) threads?\s*:.*ours/Embree ([0-9.]+)", block))
+        if not (head and build and len(rays) == 6):
+            continue
+        name = head.group(2)
+        meshes[name] = {"triangles": int(head.group(1)), "build": float(build.group(1)),
+                        **{f"{k}_{t}": v for (k, t), v in rays.items()}}
+        lines.append(f"| {name} | {int(head.group(1)):,} | {float(build.group(1)):.2f} | " +
+                     " | ".join(f"{rays[(k, t)]:.2f}" for k in ("camera", "diffuse", "shadow") for t in ("1", "2")) + " |")
+    measured = re.search(r"Measured at ([^\n]*\n[^\n]*)", text)
+    out["embree"] = {"table": "\n".join(lines), "meshes": meshes,
+                     "note": " ".join(measured.group(1).split()).rstrip(":,") if measured else "see bench/README.md"}
+    return out
+
+
+SECTIONS = {
+    "convergence": convergence,
+    "materials": lambda r, p, figs, ctx: materials(r, p, figs, ctx["scratch"]),
+    "lights": lights,
+    "gi": gi_effects,
+    "point_caustic": point_caustic,
+    "extensions": extensions,
+    "files": measured_files,
+    "colour": colour_section,
+    "accuracy": lambda r, p, figs, ctx: accuracy_section(r, p, figs, ctx["cache"]),
+    "gallery": gallery_section,
+}
+NEEDS_CONTEXT = ("materials", "accuracy")
+
+
+def settings_hash(p: dict, r: Renderer) -> str:
+    """What a section's cached results depend on: the settings and the program (binary hash)."""
+    return hashlib.sha256(json.dumps([p, r.sha, r.fraction], default=str).encode()).hexdigest()[:16]
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--quick", action="store_true", help="tiny sizes (CI): checks every figure and number is made")
     ap.add_argument("--out", type=Path, help="output folder (default docs/report; with --quick build/report-quick)")
     ap.add_argument("--program", type=Path, help="the renderer (default $SPT_PATHTRACER, else build/pathtracer)")
     ap.add_argument("--cache-dir", type=Path, default=ROOT / "build" / "report-cache")
+    ap.add_argument("--only", action="append", choices=list(SECTIONS), metavar="SECTION",
+                    help="re-run this section (repeatable); every other section's numbers come from its cached "
+                         f"results of an earlier run with the same settings and program. Sections: {', '.join(SECTIONS)}")
+    ap.add_argument("--estimate", type=float, metavar="FRACTION",
+                    help="render every stage at FRACTION of its spp (and time limits) into a cache of its own and "
+                         "print what each stage would take on idle cores (CPU time scaled up); writes no report")
     a = ap.parse_args(argv)
+    if a.estimate is not None and not 0 < a.estimate <= 1:
+        ap.error(f"--estimate: expected a fraction in (0, 1], got {a.estimate}")
     p = QUICK if a.quick else FULL
+    mode = "quick" if a.quick else "full"
     out = a.out or (ROOT / "build" / "report-quick" if a.quick else REPORT_DIR)
+    if a.estimate is not None:
+        out = a.out or (ROOT / "build" / f"report-estimate-{mode}")
     program = (a.program or Path(os.environ.get("SPT_PATHTRACER") or ROOT / "build" / "pathtracer")).resolve()
     if not os.access(program, os.X_OK):
         ap.error(f"--program: {program} is not an executable file; build the renderer first")
@@ -621,40 +794,72 @@ def main(argv=None) -> int:
     figs.mkdir(parents=True, exist_ok=True)
     scratch = out / "scenes"
     scratch.mkdir(exist_ok=True)
-    r = Renderer(program, a.cache_dir / ("quick" if a.quick else "full"), p["threads"])
+    cache = a.cache_dir / mode
+    r = Renderer(program, cache, p["threads"], a.estimate or 1.0)
+    section_cache = r.cache / "sections"
+    section_cache.mkdir(exist_ok=True)
+    tag = settings_hash(p, r)
+    ctx = {"scratch": scratch, "cache": cache}
     started = time.perf_counter()
     results: dict = {"run": {
-        "mode": "quick" if a.quick else "full",
+        "mode": mode,
         "date": datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC"),
-        "commit": git_commit(), "program": r.version,
+        "commit": git_commit(), "program": r.version, "program_sha256": r.sha[:16],
         "machine": f"{benchmark.cpu_model()}, {os.cpu_count()} logical CPUs, {platform.system()} {platform.release()}",
         "threads": p["threads"], "size": p["size"],
     }}
-    steps = [
-        ("convergence", lambda: convergence(r, p, figs)),
-        ("materials", lambda: materials(r, p, figs, scratch)),
-        ("lights", lambda: lights(r, p, figs, results["convergence"]["_refs"])),
-        ("gi", lambda: gi_effects(r, p, figs)),
-        ("point_caustic", lambda: point_caustic(r, p, figs)),
-        ("extensions", lambda: extensions(r, p, figs, results["convergence"]["_refs"])),
-        ("colour", lambda: colour_section(r, p, figs)),
-        ("accuracy", lambda: accuracy_section(r, p, figs, a.cache_dir / ("quick" if a.quick else "full"))),
-        ("gallery", lambda: gallery_section(r, p, figs)),
-    ]
-    for name, step in steps:
-        t0 = time.perf_counter()
+    stage_seconds, projected, failed = {}, {}, []
+    for name, step in SECTIONS.items():
+        cached = section_cache / f"{name}-{tag}.json"
+        if a.only and name not in a.only:
+            if not cached.is_file():
+                raise SystemExit(f"build_report.py: --only: no cached results of section '{name}' for these "
+                                 f"settings and this program; run it too (--only {name}) or run without --only")
+            saved = json.loads(cached.read_text())
+            results[name], stage_seconds[name] = saved["results"], saved["seconds"]
+            say(f"== {name}: cached ({saved['seconds']:.1f} s when it ran)")
+            continue
+        t0, p0 = time.perf_counter(), r.projected
         say(f"== {name}")
-        results[name] = step()
-        say(f"   {time.perf_counter() - t0:.1f} s")
-    results["run"]["minutes"] = (time.perf_counter() - started) / 60
+        try:
+            results[name] = step(r, p, figs, ctx) if name in NEEDS_CONTEXT else step(r, p, figs)
+        except Exception as e:  # noqa: BLE001 - one failed stage must not cost the others
+            failed.append(name)
+            say(f"   FAILED: {type(e).__name__}: {e}")
+            continue
+        stage_seconds[name] = time.perf_counter() - t0
+        projected[name] = r.projected - p0
+        cached.write_text(json.dumps({"results": strip_private(results[name]), "seconds": stage_seconds[name]},
+                                     default=float) + "\n")
+        say(f"   {stage_seconds[name]:.1f} s" + (f" (projected on idle cores at full spp: {projected[name]:.0f} s)"
+                                               if a.estimate else ""))
+    shutil.rmtree(scratch, ignore_errors=True)
+    say("\nwall time per stage (s):")
+    for name, t in stage_seconds.items():
+        say(f"  {name:14s} {t:8.1f}" + (f"   projected {projected[name]:8.0f}" if name in projected and a.estimate else ""))
+    if a.estimate:
+        total = sum(projected.values())
+        say(f"  {'total':14s} {sum(stage_seconds.values()):8.1f}   projected {total:8.0f} s = {total / 60:.1f} min "
+            f"(renders only; CPU time of the renders at fraction {a.estimate:g}, scaled by 1/{a.estimate:g}, "
+            f"over {p['threads']} threads)")
+        (out / "estimate.json").write_text(json.dumps({"fraction": a.estimate, "projected_seconds": projected,
+                                                        "stage_seconds": stage_seconds}, indent=1) + "\n")
+    if failed:
+        say(f"\nbuild_report.py: failed stage(s): {', '.join(failed)}; the others are cached: rerun with "
+            + " ".join(f"--only {f}" for f in failed))
+        return 1
+    if a.estimate:
+        return 0
+    results["run"]["stage_seconds"] = {k: round(v, 1) for k, v in stage_seconds.items()}
+    results["run"]["minutes"] = sum(stage_seconds.values()) / 60
+    results["run"]["this_invocation_minutes"] = (time.perf_counter() - started) / 60
     results = strip_private(results)
     (out / "results.json").write_text(json.dumps(results, indent=1, default=float) + "\n")
     text = fill_template((REPORT_DIR / "report.md.in").read_text(), results)
     check_figures(text, out)
     (out / "README.md").write_text(text)
-    shutil.rmtree(scratch)
     say(f"wrote {out / 'README.md'}, {out / 'results.json'} and {len(list(figs.rglob('*.png')))} figures "
-        f"in {results['run']['minutes']:.1f} min")
+        f"in {results['run']['this_invocation_minutes']:.1f} min (stages: {results['run']['minutes']:.1f} min)")
     return 0
 
 
