@@ -25,8 +25,9 @@ Error
 * Image scenes: relMSE = mean over pixels and channels of
   (x - ref)^2 / (ref^2 + 1e-2) (as in ``benchmark.py``) against a reference
   rendered with ``--spectral-bins exact``, 4 wavelengths, dispersion on, at
-  ``--reference-spp``, as two halves with different seeds (``prism``'s with
-  ``--integrator bdpt``: its caustic is found by path tracing only by chance).
+  ``--reference-spp``, as two halves with different seeds (``prism``'s and
+  ``cornell-point``'s with ``--integrator bdpt``: path tracing finds the prism's caustic
+  only by chance and the point light's caustic through the glass sphere not at all).
   The halves give the reference's own noise directly:
   relMSE_ref = mean((a - b)^2 / w) / 4, which adds to every measured relMSE;
   the table's error is the measured relMSE minus it (the raw value is shown).
@@ -90,8 +91,10 @@ ALL_SCENES = ("cornell", "cornell-point", "colorchecker", "prism")
 BIN_VALUES = ("4", "8", "16", "32", "64", "exact")
 DEFAULT_BINS = "16"
 # Scenes whose reference is rendered with --integrator bdpt: Newton's prism, whose caustic path
-# tracing finds only by chance (scenes/README.md). Same expected image, far less noise.
-BDPT_REFERENCE = ("prism", "glass-spheres")
+# tracing finds only by chance (scenes/README.md; same expected image, far less noise), and
+# cornell-point, whose point light's caustic through the glass sphere path tracing cannot find
+# at all (a path-traced reference lacks it, and bdpt would read as biased).
+BDPT_REFERENCE = ("prism", "glass-spheres", "cornell-point")
 DEFAULT_WL = 4
 
 SEED_BASE = 1000          # seed of every point at spp N: SEED_BASE + N (paired knobs)
@@ -918,7 +921,7 @@ def parse_args(argv):
                         "other knobs use path)")
     p.add_argument("--reference-integrator",
                    help="integrator of every reference (default: bdpt for prism, whose caustic path tracing "
-                        "finds only by chance, path for the Cornell boxes)")
+                        "finds only by chance, and cornell-point, whose caustic it cannot find; path for cornell)")
     p.add_argument("--wavelengths-per-path", dest="wavelengths", type=int, nargs="+", default=[1, 4, 8],
                    help="wavelengths per path to compare (default 1 4 8; values the program rejects are "
                         "reported and skipped)")

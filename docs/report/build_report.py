@@ -51,42 +51,50 @@ import benchmark  # noqa: E402
 import color_accuracy  # noqa: E402
 import gallery  # noqa: E402
 
-# Every size, sample count and time of a run. Quick: the pipeline in about a minute.
+# Every size, sample count and time of a run. Full: about half an hour on 2 idle cores, chosen
+# from `--estimate` (stage by stage in the docstring of FULL_ESTIMATE below). A reference has
+# 8-16× the samples of the largest count compared with it; its own noise is measured (two halves)
+# and subtracted, so what is left of it is the spread of that subtraction, not a bias.
+# Quick: the pipeline in about a minute.
 FULL = {
     "size": 256, "threads": 2,
-    "conv_spp": [1, 4, 16, 64, 256, 1024], "ref_spp": 16384,
-    "material_spp": 64, "material_ref_spp": 4096, "equal_seconds": 30.0,
-    "effects_size": 512, "effects_spp": 1024,
-    "caustic_seconds": 60.0, "prism_ref_spp": 16384,
-    "extension_spp": 256, "gallery_width": 512, "gallery_spp": None,
-    "chart_spp": 128, "chart_exact_spp": 2048, "chart_size": None, "chart_bins": (4, 8, 16, 32, 64),
-    "accuracy_cost": ["--height", "256", "--integrators", "path", "bdpt", "vcm",
-                      "--reference-integrator", "bdpt"],
+    "conv_spp": [1, 4, 16, 64, 256],
+    "ref_spp": {"cornell": 4096, "cornell-sphere": 4096, "cornell-quad": 4096, "cornell-point": 2048},
+    "material_spp": 32, "material_ref_spp": 512, "equal_seconds": 10.0,
+    "effects_size": 512, "effects_spp": 256,
+    "caustic_seconds": 15.0, "prism_ref_spp": 2048,
+    "extension_spp": 256, "integrators_spp": 64, "gallery_width": 512, "gallery_spp": None,
+    "chart_spp": 128, "chart_exact_spp": 1024, "chart_size": None, "chart_bins": (4, 8, 16, 32, 64),
+    "accuracy_cost": ["--height", "256", "--spp", "4", "16", "64", "256", "--bins-spp", "64",
+                      "--reference-spp", "1024", "--integrators", "path", "bdpt", "vcm",
+                      "--wavelengths-per-path", "1", "4"],
 }
 QUICK = {
     "size": 32, "threads": 2,
-    "conv_spp": [1, 2, 4, 8, 16], "ref_spp": 128,
+    "conv_spp": [1, 2, 4, 8, 16],
+    "ref_spp": {"cornell": 128, "cornell-sphere": 128, "cornell-quad": 128, "cornell-point": 128},
     "material_spp": 4, "material_ref_spp": 64, "equal_seconds": 0.3,
     "effects_size": 48, "effects_spp": 8,
     "caustic_seconds": 0.3, "prism_ref_spp": 64,
-    "extension_spp": 4, "gallery_width": 32, "gallery_spp": 2,
+    "extension_spp": 4, "integrators_spp": 2, "gallery_width": 32, "gallery_spp": 2,
     "chart_spp": 4, "chart_exact_spp": 0, "chart_size": None, "chart_bins": (16,),
     "accuracy_cost": ["--quick", "--scenes", "cornell-point", "--integrators", "path", "bdpt", "vcm",
-                      "--reference-integrator", "bdpt", "--spp", "4", "16", "--bins-spp", "16",
+                      "--spp", "4", "16", "--bins-spp", "16",
                       "--depths", "1", "--wavelengths-per-path", "4"],
 }
 
-# A reference must hold all the light transport of its scene: bdpt does (it connects to point
-# lights through glass, which path tracing cannot); `cornell` is lit by an emitting infinite
-# plane that bdpt reaches by camera paths only, so there both are path tracing.
+# A reference must hold all the light transport of its scene. Path tracing does wherever every
+# light has an area (each path has a non-zero density), and costs the least per sample; the point
+# light's caustic through the glass of `cornell-point` has density zero for it, so that reference
+# is bdpt's (which connects light subpaths through the glass to the camera).
 def reference_integrator(scene: str) -> str:
-    return "path" if scene == "cornell" else "bdpt"
+    return "bdpt" if scene == "cornell-point" else "path"
 
 
 def canonical_reference(r: "Renderer", p: dict, scene: str) -> tuple[np.ndarray, float]:
     """The long reference of a canonical scene at the report's size, shared by every section
     (the render cache makes the second request a file read)."""
-    return r.reference(scene, width=p["size"], height=p["size"], spp=p["ref_spp"],
+    return r.reference(scene, width=p["size"], height=p["size"], spp=p["ref_spp"][scene],
                        integrator=reference_integrator(scene))
 
 
@@ -282,7 +290,7 @@ def convergence(r: Renderer, p: dict, figs: Path) -> dict:
         name = f"{scene}/{integ}"
         out[name] = {"scene": scene, "integrator": integ, "slope": slope, "slope_se": se,
                      "reading": slope_reading(slope, se),
-                     "reference": f"{reference_integrator(scene)}, {p['ref_spp']} spp",
+                     "reference": f"{reference_integrator(scene)}, {p['ref_spp'][scene]} spp",
                      "reference_noise": noise, "spp": [s for s, _, _ in pts], "relmse": [e for _, e, _ in pts],
                      "seconds": [t for _, _, t in pts],
                      "relmse_max_spp": pts[-1][1], "relmse_min_spp": pts[0][1]}
@@ -300,7 +308,7 @@ def convergence(r: Renderer, p: dict, figs: Path) -> dict:
     save_figure(fig, figs / "convergence.png")
     out["spp_min"], out["spp_max"] = min(p["conv_spp"]), max(p["conv_spp"])
     out["spp_range"] = f"{out['spp_min']}–{out['spp_max']}"
-    out["ref_spp"] = p["ref_spp"]
+    out["ref_spp"] = ", ".join(f"`{s}` {reference_integrator(s)} {n}" for s, n in p["ref_spp"].items())
     return out
 
 
@@ -333,7 +341,7 @@ def materials(r: Renderer, p: dict, figs: Path, scratch: Path) -> dict:
     rows = []
     for name, mat in MATERIALS.items():
         scene = material_scene(mat, scratch, name)
-        ref, noise = r.reference(scene, width=n, height=n, spp=p["material_ref_spp"], integrator="bdpt")
+        ref, noise = r.reference(scene, width=n, height=n, spp=p["material_ref_spp"], integrator="path")
         x = r.render(scene, width=n, height=n, spp=p["material_spp"], seed=7, integrator="path")
         e = rel_mse(x.image, ref, noise)
         # The sphere's pixels: a box around its image (centre (0, −0.55, 0), radius 0.45).
@@ -520,12 +528,14 @@ def extensions(r: Renderer, p: dict, figs: Path) -> dict:
     # path tracing's (same expected image; the ratio's distance from 1 is noise or a bias).
     lum = np.array([0.2126, 0.7152, 0.0722])
     for key, scene, size in (("textured", "textured", n), ("frosted", "frosted-glass", n)):
-        imgs = {i: r.render(scene, width=size, spp=spp, seed=28, integrator=i) for i in ("path", "bdpt", "vcm")}
+        imgs = {i: r.render(scene, width=size, spp=p["integrators_spp"], seed=28, integrator=i)
+                for i in ("path", "bdpt", "vcm")}
         means = {i: float((x.image @ lum).mean()) for i, x in imgs.items()}
         out[key] = {f"{i}_vs_path": ratio(means[i], means["path"]) for i in ("bdpt", "vcm")}
         out[key].update({f"seconds_{i}": x.seconds for i, x in imgs.items()})
         panels(figs / f"{key}_integrators.png", [load_png(x.png) for x in imgs.values()],
                [f"{i}: {x.seconds:.1f} s, mean / path {ratio(means[i], means['path']):.3f}" for i, x in imgs.items()])
+    out["spp"], out["integrators_spp"] = spp, p["integrators_spp"]
     return out
 
 
@@ -576,10 +586,10 @@ def colour_section(r: Renderer, p: dict, figs: Path) -> dict:
     return out
 
 
-def scaled_accuracy_argv(argv: list[str], fraction: float) -> list[str]:
-    """accuracy_cost.py's arguments with every spp scaled by `fraction` (kept distinct, so the
-    study renders as many points; the CPU time then scales back by 1/fraction), into a
-    cache and output folder of their own."""
+def scaled_accuracy_argv(argv: list[str], fraction: float) -> tuple[list[str], float]:
+    """accuracy_cost.py's arguments with every spp scaled by about `fraction` (kept distinct, so
+    the study renders as many points), into a cache and output folder of their own; and the
+    fraction of the samples this keeps (sweep plus reference), which the CPU time scales back by."""
     a = accuracy_cost.parse_args(argv)
     spp = [max(1, round(s * fraction)) for s in a.spp]
     for i in range(1, len(spp)):
@@ -594,8 +604,10 @@ def scaled_accuracy_argv(argv: list[str], fraction: float) -> list[str]:
                 del out[i]
             del out[i - 1]
     tag = f"estimate-{fraction:g}"
+    kept = (sum(spp) + ref) / (sum(a.spp) + max(a.ref_spp.values()))
     return out + ["--spp", *map(str, spp), "--bins-spp", str(bins), "--reference-spp", str(ref),
-                  "--out", str(a.out.parent / f"accuracy-{tag}"), "--cache-dir", str(a.cache_dir), "--run-tag", tag]
+                  "--out", str(a.out.parent / f"accuracy-{tag}"), "--cache-dir", str(a.cache_dir),
+                  "--run-tag", tag], kept
 
 
 def save_png_optimized(path: Path) -> None:
@@ -608,12 +620,13 @@ def accuracy_section(r: Renderer, p: dict, figs: Path, cache: Path) -> dict:
     folder = figs.parent / "accuracy"
     argv = p["accuracy_cost"] + ["--program", str(r.program), "--out", str(folder),
                                  "--cache-dir", str(cache / "accuracy-cost")]
-    if r.fraction != 1:  # --estimate: every spp (sweep, bins, references) at the fraction
-        argv = scaled_accuracy_argv(argv, r.fraction)
+    fraction = 1.0
+    if r.fraction != 1:  # --estimate: every spp (sweep, bins, references) at about the fraction
+        argv, fraction = scaled_accuracy_argv(argv, r.fraction)
         folder = Path(argv[argv.index("--out") + 1])
     cpu0 = child_cpu_seconds()
     accuracy_cost.main(argv)
-    r.projected += (child_cpu_seconds() - cpu0) / r.fraction / p["threads"]
+    r.projected += (child_cpu_seconds() - cpu0) / fraction / p["threads"]
     # One copy of the plot, with the other figures (accuracy/ keeps the study's table and data).
     shutil.move(folder / "accuracy_cost.png", figs / "accuracy_cost.png")
     save_png_optimized(figs / "accuracy_cost.png")
@@ -640,6 +653,9 @@ def accuracy_section(r: Renderer, p: dict, figs: Path, cache: Path) -> dict:
                          f"{slope:.2f} ± {se:.2f} |")
     out["table"] = "\n".join(lines)
     out["report"] = "accuracy/accuracy_cost.md"
+    args = accuracy_cost.parse_args(argv)
+    out["height"] = args.height
+    out["reference_spp"] = ", ".join(sorted({str(v) for v in args.ref_spp.values()}))
     return out
 
 
@@ -736,7 +752,7 @@ def measured_files(r: Renderer, p: dict, figs: Path) -> dict:
                     re.finditer(r"(camera|diffuse|shadow)\s+(\d) threads?\s*:.*ours/Embree ([0-9.]+)", block))
         if not (head and build and len(rays) == 6):
             continue
-        name = head.group(2)
+        name = head.group(2) if head.group(2) != "generated" else f"generated {head.group(1)}"
         meshes[name] = {"triangles": int(head.group(1)), "build": float(build.group(1)),
                         **{f"{k}_{t}": v for (k, t), v in rays.items()}}
         lines.append(f"| {name} | {int(head.group(1)):,} | {float(build.group(1)):.2f} | " +
@@ -851,6 +867,7 @@ def main(argv=None) -> int:
     if a.estimate:
         return 0
     results["run"]["stage_seconds"] = {k: round(v, 1) for k, v in stage_seconds.items()}
+    results["run"]["stage_list"] = ", ".join(f"{k} {v / 60:.1f}" for k, v in stage_seconds.items()) + " min"
     results["run"]["minutes"] = sum(stage_seconds.values()) / 60
     results["run"]["this_invocation_minutes"] = (time.perf_counter() - started) / 60
     results = strip_private(results)
