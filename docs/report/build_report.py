@@ -5,7 +5,8 @@
     OUT/results.json    every number the text quotes (and the machine, date and commit)
     OUT/README.md       docs/report/report.md.in with each {{key}} replaced from results.json
 
-Full mode (OUT = docs/report, the committed report; hours on 2 cores, run it on an idle machine):
+Full mode (OUT = docs/report, the committed report; about half an hour on 2 idle cores, run it
+on an idle machine):
 
     VENV=$(bash validation/setup_venv.sh)
     $VENV/bin/python docs/report/build_report.py
@@ -14,6 +15,13 @@ Quick mode (CI: tiny sizes, about a minute; OUT = build/report-quick, the tree s
 checks that every figure is produced and that every key the text names has a value:
 
     $VENV/bin/python docs/report/build_report.py --quick
+
+A stage that fails does not stop the others (the run then exits 1 naming it, without writing
+README.md); `--only SECTION` (repeatable) re-runs that section and takes every other section's
+numbers from its cached results (build/report-cache/<mode>/<program sha>/sections/, keyed by the
+settings and the program's hash). `--estimate FRACTION` renders every stage at that fraction of
+its spp into a cache of its own and prints each stage's projected time on idle cores (from the
+renders' CPU time, which other processes hardly change); it writes no report.
 
 The renderer is $SPT_PATHTRACER, else build/pathtracer (or --program). Renders are cached
 under build/report-cache/<program sha> by their command line, so rebuilding the text after an
