@@ -59,19 +59,23 @@ import benchmark  # noqa: E402
 import color_accuracy  # noqa: E402
 import gallery  # noqa: E402
 
-# Every size, sample count and time of a run. Full: about half an hour on 2 idle cores, chosen
-# from `--estimate` (stage by stage in the docstring of FULL_ESTIMATE below). A reference has
-# 8-16× the samples of the largest count compared with it; its own noise is measured (two halves)
-# and subtracted, so what is left of it is the spread of that subtraction, not a bias.
+# Every size, sample count and time of a run. Full: about half an hour on 2 idle cores, sized
+# with `--estimate 0.015625` (2026-12-02, commit 03217f3's renderer, on the loaded 2-core VM; its
+# CPU time per path matched the idle 1-thread throughput of parallel_strategies.md), projected
+# render seconds on idle cores: convergence 403, materials 94, lights 146 (before cornell-quad's
+# reference went to 2048 spp: about 90 now), gi 70, point_caustic 45, extensions 183, colour 49,
+# accuracy 774, gallery 232 at 512 wide (about 90 at 320): about 1800 s in all, an upper bound
+# (a vcm render's fixed cost per pass scales up with its spp). A reference has 8-16× the samples of
+# the largest count compared with it; its own noise is measured (two halves) and subtracted.
 # Quick: the pipeline in about a minute.
 FULL = {
     "size": 256, "threads": 2,
     "conv_spp": [1, 4, 16, 64, 256],
-    "ref_spp": {"cornell": 4096, "cornell-sphere": 4096, "cornell-quad": 4096, "cornell-point": 2048},
+    "ref_spp": {"cornell": 4096, "cornell-sphere": 4096, "cornell-quad": 2048, "cornell-point": 2048},
     "material_spp": 32, "material_ref_spp": 512, "equal_seconds": 10.0,
     "effects_size": 512, "effects_spp": 256,
     "caustic_seconds": 15.0, "prism_ref_spp": 2048,
-    "extension_spp": 256, "integrators_spp": 64, "gallery_width": 512, "gallery_spp": None,
+    "extension_spp": 256, "integrators_spp": 64, "gallery_width": 320, "gallery_spp": None,
     "chart_spp": 128, "chart_exact_spp": 1024, "chart_size": None, "chart_bins": (4, 8, 16, 32, 64),
     "accuracy_cost": ["--height", "256", "--spp", "4", "16", "64", "256", "--bins-spp", "64",
                       "--reference-spp", "1024", "--integrators", "path", "bdpt", "vcm",
@@ -558,6 +562,7 @@ def gallery_section(r: Renderer, p: dict, figs: Path) -> dict:
         spp = p["gallery_spp"] or scene_spp
         x = r.render(name, width=width, spp=spp, seed=0, integrator=integrator)
         shutil.copyfile(x.png, folder / f"{name}.png")
+        save_png_optimized(folder / f"{name}.png")
         times[name] = x.seconds
         lines.append(f"| ![{name}](figures/gallery/{name}.png) | `{name}`: {summary} | "
                      f"{width}×{round(width * h / w)} | {x.spp} | {integrator} | {x.seconds:.1f} |")
