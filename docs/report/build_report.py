@@ -531,10 +531,11 @@ def extensions(r: Renderer, p: dict, figs: Path) -> dict:
     else:
         out["wavefront"] = {"time_ratio": math.nan, "identical": "not in this program"}
 
-    # Participating media: which integrators the program accepts for a scene with a medium.
-    media_ok = [i for i in ("path", "bdpt", "vcm") if supports(r, ["--integrator", i], scene="cornell-fog")]
-    out["media"] = {"integrators": ", ".join(f"`{i}`" for i in media_ok) or "none",
-                    "refused": ", ".join(f"`{i}`" for i in ("path", "bdpt", "vcm") if i not in media_ok) or "none"}
+    # Which integrators the program accepts for a scene with a medium, and with motion blur.
+    for key, scene in (("media", "cornell-fog"), ("motion", "motion")):
+        ok = [i for i in ("path", "bdpt", "vcm") if supports(r, ["--integrator", i], scene=scene)]
+        out[key] = {"integrators": ", ".join(f"`{i}`" for i in ok) or "none",
+                    "refused": ", ".join(f"`{i}`" for i in ("path", "bdpt", "vcm") if i not in ok) or "none"}
 
     # Textures and rough glass in every integrator: each integrator's mean luminance against
     # path tracing's (same expected image; the ratio's distance from 1 is noise or a bias).
@@ -772,7 +773,8 @@ def measured_files(r: Renderer, p: dict, figs: Path) -> dict:
                      " | ".join(f"{rays[(k, t)]:.2f}" for k in ("camera", "diffuse", "shadow") for t in ("1", "2")) + " |")
     measured = re.search(r"Measured at ([^\n]*\n[^\n]*)", text)
     out["embree"] = {"table": "\n".join(lines), "meshes": meshes,
-                     "note": " ".join(measured.group(1).split()).rstrip(":,") if measured else "see bench/README.md"}
+                     "note": " ".join(measured.group(1).replace("*", "").split()).rstrip(":,")
+                     if measured else "see bench/README.md"}
     return out
 
 
