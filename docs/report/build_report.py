@@ -21,7 +21,8 @@ README.md); `--only SECTION` (repeatable) re-runs that section and takes every o
 numbers from its cached results (build/report-cache/<mode>/<program sha>/sections/, keyed by the
 settings and the program's hash). `--estimate FRACTION` renders every stage at that fraction of
 its spp into a cache of its own and prints each stage's projected time on idle cores (from the
-renders' CPU time, which other processes hardly change); it writes no report.
+renders' CPU time, which other processes hardly change); it writes no report, and with --only
+it estimates those sections alone.
 
 The renderer is $SPT_PATHTRACER, else build/pathtracer (or --program). Renders are cached
 under build/report-cache/<program sha> by their command line, so rebuilding the text after an
@@ -61,12 +62,12 @@ import gallery  # noqa: E402
 
 # Every size, sample count and time of a run. Full: about half an hour on 2 idle cores, sized
 # with `--estimate 0.015625` (2026-12-02, commit 03217f3's renderer, on the loaded 2-core VM; its
-# CPU time per path matched the idle 1-thread throughput of parallel_strategies.md), projected
-# render seconds on idle cores: convergence 403, materials 94, lights 146 (before cornell-quad's
-# reference went to 2048 spp: about 90 now), gi 70, point_caustic 45, extensions 183, colour 49,
-# accuracy 774, gallery 232 at 512 wide (about 90 at 320): about 1800 s in all, an upper bound
-# (a vcm render's fixed cost per pass scales up with its spp). A reference has 8-16× the samples of
-# the largest count compared with it; its own noise is measured (two halves) and subtracted.
+# CPU time per path matched the idle 1-thread throughput of parallel_strategies.md). Projected
+# render seconds on idle cores, stage by stage (a shared reference counts where it is first
+# rendered): convergence 403, materials 94, lights 91, gi 70, point_caustic 45, extensions 183,
+# colour 49, accuracy 774, gallery 94: 1803 s, an upper bound (a vcm render's fixed cost per pass
+# is scaled up with its spp). A reference has 8-16× the samples of the largest count compared
+# with it; its own noise is measured (two halves) and subtracted.
 # Quick: the pipeline in about a minute.
 FULL = {
     "size": 256, "threads": 2,
@@ -843,6 +844,8 @@ def main(argv=None) -> int:
     for name, step in SECTIONS.items():
         cached = section_cache / f"{name}-{tag}.json"
         if a.only and name not in a.only:
+            if a.estimate:  # an estimate of some sections writes no report: nothing to fill in
+                continue
             if not cached.is_file():
                 raise SystemExit(f"build_report.py: --only: no cached results of section '{name}' for these "
                                  f"settings and this program; run it too (--only {name}) or run without --only")
