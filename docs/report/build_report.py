@@ -360,17 +360,18 @@ def materials(r: Renderer, p: dict, figs: Path, scratch: Path) -> dict:
         # The sphere's pixels: a box around its image (centre (0, −0.55, 0), radius 0.45).
         box = (slice(int(0.52 * n), int(0.92 * n)), slice(int(0.3 * n), int(0.7 * n)))
         e_sphere = float(np.mean((x.image[box] - ref[box]) ** 2 / accuracy_cost.w_of(ref[box])))
-        out[name] = {"relmse": e, "relmse_sphere": e_sphere, "seconds": x.seconds,
+        out[name] = {"relmse": e, "relmse_sphere": e_sphere, "seconds": x.seconds, "reference_noise": noise,
                      "efficiency": ratio(1.0, e * x.seconds) if e > 0 else math.inf}
-        rows.append(f"| {name} | {e:.4g} | {e_sphere:.4g} | {x.seconds:.2f} | {out[name]['efficiency']:.3g} |")
+        rows.append(f"| {name} | {e:.4g} | {e_sphere:.4g} | {x.seconds:.2f} | {out[name]['efficiency']:.3g} | "
+                    f"{noise:.2g} |")
         imgs.append(load_png(x.png))
         titles.append(f"{name}: relMSE {e:.3g}")
     base = out["diffuse"]["relmse"]
     for name in out:
         out[name]["vs_diffuse"] = out[name]["relmse"] / base if base > 0 else math.nan
     panels(figs / "materials.png", imgs, titles, inset=(0.3, 0.52, 0.4, 0.4))
-    out["table"] = "\n".join(["| sphere | relMSE (image) | relMSE (sphere box) | time (s) | 1/(relMSE·time) |",
-                              "|---|---:|---:|---:|---:|"] + rows)
+    out["table"] = "\n".join(["| sphere | relMSE (image) | relMSE (sphere box) | time (s) | 1/(relMSE·time) | "
+                              "reference's own relMSE |", "|---|---:|---:|---:|---:|---:|"] + rows)
     out["spp"], out["ref_spp"] = p["material_spp"], p["material_ref_spp"]
     return out
 
