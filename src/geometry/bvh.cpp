@@ -84,9 +84,11 @@ namespace {
 /// Subtrees of fewer primitives are built on the thread that reaches them (a thread costs
 /// tens of microseconds; a subtree of this size, milliseconds).
 constexpr int kParallelMin = 16384;
-/// The SAH's cost of visiting a node, relative to testing one leaf packet (four boxes at once
-/// against four primitives at once: about the same work).
-constexpr double kTraversalCost = 1.0;
+/// The SAH's cost of visiting a node, relative to testing one leaf packet (four boxes in float
+/// against four triangles in double). Measured (callgrind, generated 100 k mesh, diffuse and
+/// shadow rays): 0.5 walks 6 % fewer instructions than 1.0 (and than 2.0: 5 % more); 0.25
+/// no fewer than 0.5, with more nodes.
+constexpr double kTraversalCost = 0.5;
 /// Leaf packets of n primitives: a leaf's cost is in packets, not primitives (a leaf of 3
 /// costs as much as one of 4), so the SAH fills packets instead of making leaves of 1 or 2.
 constexpr int packets(int n) { return (n + 3) >> 2; }
