@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <bit>
 #include <stdexcept>
 #include <thread>
 
@@ -83,9 +84,14 @@ namespace {
 /// Subtrees of fewer primitives are built on the thread that reaches them (a thread costs
 /// tens of microseconds; a subtree of this size, milliseconds).
 constexpr int kParallelMin = 16384;
-/// The SAH's cost of visiting a node, relative to one primitive test (a 4-box SIMD test costs
-/// about as much as one triangle test).
-constexpr double kTraversalCost = 1.0;
+/// The SAH's cost of visiting a node, relative to testing one leaf packet (four boxes in float
+/// against four triangles in double). Measured (callgrind, generated 100 k mesh, diffuse and
+/// shadow rays): 0.5 walks 6 % fewer instructions than 1.0 (and than 2.0: 5 % more); 0.25
+/// no fewer than 0.5, with more nodes.
+constexpr double kTraversalCost = 0.5;
+/// Leaf packets of n primitives: a leaf's cost is in packets, not primitives (a leaf of 3
+/// costs as much as one of 4), so the SAH fills packets instead of making leaves of 1 or 2.
+constexpr int packets(int n) { return (n + 3) >> 2; }
 
 }  // namespace
 
@@ -144,20 +150,20 @@ int Bvh::build_binary(BuildContext& ctx, int begin, int end, int depth, std::vec
             for (int b = 0; b < kBins - 1; ++b) {
                 acc.expand(bin_box[axis][b]);
                 acc_count += count[axis][b];
-                cost_below[b] = acc_count * acc.surface_area();
+                cost_below[b] = packets(acc_count) * acc.surface_area();
             }
             acc = Aabb{};
             acc_count = 0;
             for (int b = kBins - 2; b >= 0; --b) {
                 acc.expand(bin_box[axis][b + 1]);
                 acc_count += count[axis][b + 1];
-                const double cost = cost_below[b] + acc_count * acc.surface_area();
+                const double cost = cost_below[b] + packets(acc_count) * acc.surface_area();
                 if (cost < best_cost) best_cost = cost, best_axis = axis, best_bin = b;
             }
         }
         const double area = box.surface_area();
-        const double split_cost = kTraversalCost + (area > 0.0 ? best_cost / area : n);
-        if (n <= kMaxLeafSize && double(n) <= split_cost) return index;
+        const double split_cost = kTraversalCost + (area > 0.0 ? best_cost / area : packets(n));
+        if (n <= kMaxLeafSize && double(packets(n)) <= split_cost) return index;
         const auto split = std::partition(prims.begin() + begin, prims.begin() + end, [&](const BuildPrim& p) {
             return bin_of(p, best_axis) <= best_bin;
         });
@@ -216,18 +222,18 @@ std::uint32_t Bvh::collapse(const std::vector<BinaryNode>& tree, int node, const
         if (c.child[0] >= 0) {
             ref = collapse(tree, slots[k], prims, shapes, stats) << 4;
         } else {
+            // The leaf's primitives four to a packet, in leaf order.
             const auto offset = static_cast<std::uint32_t>(m_leaf.size());
+            std::uint32_t count = 0;
             for (int i = c.begin; i < c.end; ++i) {
-                BvhLeafPrim lp{};
-                lp.prim = prims[i].ref;
-                if (lp.prim.kind() == ShapeKind::triangle) {
-                    const Triangle& t = shapes.triangles[lp.prim.index()];
-                    if (has_zero_float_area(t.p0, t.p1, t.p2)) continue;  // never hit
-                    lp.p0 = t.p0, lp.p1 = t.p1, lp.p2 = t.p2;
-                }
-                m_leaf.push_back(lp);
+                const PrimId prim = prims[i].ref;
+                const Triangle* t = prim.kind() == ShapeKind::triangle ? &shapes.triangles[prim.index()] : nullptr;
+                if (t && has_zero_float_area(t->p0, t->p1, t->p2)) continue;  // never hit
+                const int lane = static_cast<int>(count++ % 4);
+                if (lane == 0) m_leaf.emplace_back();
+                m_leaf.back().prim[lane] = prim;
+                if (t) m_leaf.back().triangles.set(lane, t->p0, t->p1, t->p2);
             }
-            const auto count = static_cast<std::uint32_t>(m_leaf.size()) - offset;
             if (count == 0) continue;  // the slot stays empty
             ref = offset << 4 | count;
             ++stats.leaves;
@@ -271,7 +277,7 @@ BvhBuildStats Bvh::build(const BvhShapes& shapes) {
     for (std::size_t i = 0; i < tree.size(); ++i)
         for (const int c : tree[i].child)
             if (c >= 0) depth[c] = depth[i] + 1, stats.max_depth = std::max(stats.max_depth, depth[c]);
-    m_leaf.reserve(prims.size());
+    m_leaf.reserve(prims.size() / 2);  // packets: leaves of 1 to 8 primitives, four to a packet
     m_nodes.reserve(tree.size() / 3 + 1);
     collapse(tree, 0, prims, shapes, stats);
     m_nodes.shrink_to_fit();
@@ -333,6 +339,20 @@ struct StackEntry {
 };
 constexpr std::uint32_t kCountMask = 15;
 
+/// The lanes of a leaf packet to visit: the triangles among `valid` that the four-lane test
+/// cannot reject, and every other valid primitive; one bit per lane.
+inline unsigned lanes_to_test(const BvhLeafPacket& packet, unsigned valid, const ShearedRay& ray, double t_max) {
+    constexpr auto kKindBits = static_cast<std::int32_t>(~0u << PrimId::kIndexBits);
+    constexpr auto kTriangle = static_cast<std::int32_t>(std::uint32_t(ShapeKind::triangle) << PrimId::kIndexBits);
+    const Int4 kinds = std::bit_cast<Int4>(packet.prim) & splat4(kKindBits);
+    const unsigned triangles = lane_bits(kinds == splat4(kTriangle)) & valid;
+    if (triangles == 0) return valid;
+    return (triangle_candidates(packet.triangles, ray, t_max) & triangles) | (valid & ~triangles);
+}
+
+/// The valid lanes of the packets of a leaf of `count` primitives, from `left` primitives on.
+inline unsigned valid_lanes(int left) { return left >= 4 ? 15u : (1u << left) - 1u; }
+
 }  // namespace
 
 bool Bvh::intersect(const Ray& ray, const BvhShapes& shapes, double& t_best, BvhHit& hit) const {
@@ -367,25 +387,32 @@ bool Bvh::intersect(const Ray& ray, const BvhShapes& shapes, double& t_best, Bvh
                 continue;
             }
         } else {
-            const BvhLeafPrim* lp = m_leaf.data() + (ref >> 4);
-            for (const BvhLeafPrim* end = lp + (ref & kCountMask); lp != end; ++lp) {
-                if (lp->prim.kind() == ShapeKind::triangle) {
-                    if (const auto ti = intersect_triangle(lp->p0, lp->p1, lp->p2, sheared, t_best)) {
-                        t_best = ti->t, hit.prim = lp->prim, hit.tri = *ti, hit.instance = BvhHit::kNoInstance;
-                        found = true;
+            const BvhLeafPacket* packet = m_leaf.data() + (ref >> 4);
+            for (int left = static_cast<int>(ref & kCountMask); left > 0; left -= 4, ++packet) {
+                for (unsigned todo = lanes_to_test(*packet, valid_lanes(left), sheared, t_best); todo != 0;
+                     todo &= todo - 1) {
+                    const int k = __builtin_ctz(todo);
+                    const PrimId prim = packet->prim[k];
+                    if (prim.kind() == ShapeKind::triangle) {
+                        const TriangleLanes& tri = packet->triangles;
+                        if (const auto ti = intersect_triangle(tri.vertex(0, k), tri.vertex(1, k), tri.vertex(2, k),
+                                                               sheared, t_best)) {
+                            t_best = ti->t, hit.prim = prim, hit.tri = *ti, hit.instance = BvhHit::kNoInstance;
+                            found = true;
+                            t_limit = next_float_up(static_cast<float>(t_best));
+                        }
+                    } else if (prim.kind() == ShapeKind::instance) [[unlikely]] {
+                        // The instance's own tree, with the ray in its object space.
+                        const MeshInstance& inst = shapes.instances[prim.index()];
+                        const InstancedMesh& mesh = shapes.meshes[inst.mesh];
+                        if (mesh.bvh.intersect(inst.to_object_ray(ray), mesh.shapes(), t_best, hit)) {
+                            hit.instance = prim.index(), found = true;
+                            t_limit = next_float_up(static_cast<float>(t_best));
+                        }
+                    } else if (const double t = quadric_t(ray, shapes, prim); t < t_best) {
+                        t_best = t, hit.prim = prim, hit.instance = BvhHit::kNoInstance, found = true;
                         t_limit = next_float_up(static_cast<float>(t_best));
                     }
-                } else if (lp->prim.kind() == ShapeKind::instance) [[unlikely]] {
-                    // The instance's own tree, with the ray in its object space.
-                    const MeshInstance& inst = shapes.instances[lp->prim.index()];
-                    const InstancedMesh& mesh = shapes.meshes[inst.mesh];
-                    if (mesh.bvh.intersect(inst.to_object_ray(ray), mesh.shapes(), t_best, hit)) {
-                        hit.instance = lp->prim.index(), found = true;
-                        t_limit = next_float_up(static_cast<float>(t_best));
-                    }
-                } else if (const double t = quadric_t(ray, shapes, lp->prim); t < t_best) {
-                    t_best = t, hit.prim = lp->prim, hit.instance = BvhHit::kNoInstance, found = true;
-                    t_limit = next_float_up(static_cast<float>(t_best));
                 }
             }
         }
@@ -421,16 +448,23 @@ bool Bvh::occluded(const Ray& ray, const BvhShapes& shapes) const {
                 continue;
             }
         } else {
-            const BvhLeafPrim* lp = m_leaf.data() + (ref >> 4);
-            for (const BvhLeafPrim* end = lp + (ref & kCountMask); lp != end; ++lp) {
-                if (lp->prim.kind() == ShapeKind::triangle) {
-                    if (intersect_triangle(lp->p0, lp->p1, lp->p2, sheared, ray.t_max)) return true;
-                } else if (lp->prim.kind() == ShapeKind::instance) [[unlikely]] {
-                    const MeshInstance& inst = shapes.instances[lp->prim.index()];
-                    const InstancedMesh& mesh = shapes.meshes[inst.mesh];
-                    if (mesh.bvh.occluded(inst.to_object_ray(ray), mesh.shapes())) return true;
-                } else if (quadric_t(ray, shapes, lp->prim) < ray.t_max) {
-                    return true;
+            const BvhLeafPacket* packet = m_leaf.data() + (ref >> 4);
+            for (int left = static_cast<int>(ref & kCountMask); left > 0; left -= 4, ++packet) {
+                for (unsigned todo = lanes_to_test(*packet, valid_lanes(left), sheared, ray.t_max); todo != 0;
+                     todo &= todo - 1) {
+                    const int k = __builtin_ctz(todo);
+                    const PrimId prim = packet->prim[k];
+                    if (prim.kind() == ShapeKind::triangle) {
+                        const TriangleLanes& tri = packet->triangles;
+                        if (intersect_triangle(tri.vertex(0, k), tri.vertex(1, k), tri.vertex(2, k), sheared, ray.t_max))
+                            return true;
+                    } else if (prim.kind() == ShapeKind::instance) [[unlikely]] {
+                        const MeshInstance& inst = shapes.instances[prim.index()];
+                        const InstancedMesh& mesh = shapes.meshes[inst.mesh];
+                        if (mesh.bvh.occluded(inst.to_object_ray(ray), mesh.shapes())) return true;
+                    } else if (quadric_t(ray, shapes, prim) < ray.t_max) {
+                        return true;
+                    }
                 }
             }
         }

@@ -2,7 +2,8 @@
 // cylinders and cones; infinite planes stay outside). A binary tree is built by binned SAH over
 // all three axes (Wald 2007), in parallel for large subtrees, then collapsed into 4-wide nodes
 // whose four child boxes are tested at once (the layout of Embree's BVH4 and of Ylitie et al.
-// 2017, without compression); leaves hold up to 8 primitives, triangles copied in leaf order.
+// 2017, without compression); leaves hold up to 8 primitives in packets of four, triangles
+// copied in leaf order side by side (triangle_lanes.h) so that four are tested at once.
 // Traversal is iterative with a fixed stack, nearest child first: no allocation and no
 // virtual call per ray. Box tests are conservative (aabb.h), so the watertight triangle test
 // decides every hit exactly as it would without the tree.
@@ -19,6 +20,7 @@
 #include "geometry/mesh_instance.h"
 #include "geometry/sphere.h"
 #include "geometry/triangle.h"
+#include "geometry/triangle_lanes.h"
 
 namespace spt {
 
@@ -44,18 +46,21 @@ struct BvhShapes {
 struct alignas(64) WideBvhNode {
     Float4 lo[3], hi[3];
     /// Per child: (index << 4) | count. count 0: an inner node (index into the nodes);
-    /// count 1–15: a leaf of `count` entries from index in the leaf list.
+    /// count 1–15: a leaf of `count` primitives in the leaf packets from index on (four to a
+    /// packet, the last one padded).
     std::uint32_t child[4];
 };
 static_assert(sizeof(WideBvhNode) == 128, "a wide node is two cache lines");
 
-/// One primitive of a leaf. Triangles carry a copy of their vertices (in leaf order, so a
-/// leaf's triangles are read from consecutive memory, not through an index list); other
-/// shapes are reached through `prim`.
-struct BvhLeafPrim {
-    Vec3 p0, p1, p2;
-    PrimId prim;
+/// Four primitives of a leaf, in leaf order (lane k = the leaf's primitive 4·packet + k).
+/// Triangles carry a copy of their vertices in `triangles` (so a leaf's triangles are read
+/// from consecutive memory and tested four at once); other shapes are reached through `prim`
+/// (their vertex lanes are zero). Lanes past the leaf's end are padding.
+struct BvhLeafPacket {
+    TriangleLanes triangles;
+    PrimId prim[4];
 };
+static_assert(sizeof(BvhLeafPacket) == 160, "four primitives in 160 bytes, as four 40-byte entries were");
 
 /// Nearest primitive found by Bvh::intersect.
 struct BvhHit {
@@ -88,7 +93,7 @@ public:
     std::size_t node_count() const { return m_nodes.size(); }
     /// Bytes held by the tree (nodes and leaf copies), for the benchmark's memory per triangle.
     std::size_t memory_bytes() const {
-        return m_nodes.capacity() * sizeof(WideBvhNode) + m_leaf.capacity() * sizeof(BvhLeafPrim);
+        return m_nodes.capacity() * sizeof(WideBvhNode) + m_leaf.capacity() * sizeof(BvhLeafPacket);
     }
 
     /// Nearest hit with t in (0, t_best) among the primitives (the arrays the tree was built
@@ -118,7 +123,7 @@ private:
                            const BvhShapes& shapes, BvhBuildStats& stats);
 
     std::vector<WideBvhNode> m_nodes;  ///< depth-first; the root is node 0
-    std::vector<BvhLeafPrim> m_leaf;   ///< the leaves' primitives, leaf after leaf
+    std::vector<BvhLeafPacket> m_leaf;  ///< the leaves' primitives, leaf after leaf
 };
 
 /// Bounding box of a sphere, rounded outwards.
