@@ -95,10 +95,10 @@ struct DirectionTest {
 };
 
 DirectionTest direction_test(const Scene& scene, int k, const LightSampleContext& ctx, const Vec3& axis,
-                             double cos_max, int n, std::uint64_t seed) {
+                             double cos_max, int n, std::uint64_t seed, int sub = 6) {
     spt_test::ConeHistogram histogram(axis, cos_max, 12, 12);
     const std::vector<double> expected =
-        histogram.expected([&](const Vec3& d) { return pdf_along(scene, k, ctx, d); }, n, 6);
+        histogram.expected([&](const Vec3& d) { return pdf_along(scene, k, ctx, d); }, n, sub);
     DirectionTest result;
     std::mt19937_64 rng(seed);
     std::uniform_real_distribution<float> u(0.f, 1.f);
@@ -123,9 +123,12 @@ DirectionTest direction_test(const Scene& scene, int k, const LightSampleContext
 /// in any of them stays below 1.5e-4.
 constexpr double kAlpha = 1e-5;
 
+/// sub: the midpoint grid per cell side that integrates the expected counts (finer where
+/// the density's support ends inside cells).
 void expect_directions_follow_pdf(const Scene& scene, int k, const LightSampleContext& ctx, const Vec3& axis,
-                                  double cos_max, const std::string& what, double pdf_tolerance = 2e-3) {
-    const DirectionTest t = direction_test(scene, k, ctx, axis, cos_max, 200000, 12345);
+                                  double cos_max, const std::string& what, double pdf_tolerance = 2e-3,
+                                  int sub = 6) {
+    const DirectionTest t = direction_test(scene, k, ctx, axis, cos_max, 200000, 12345, sub);
     EXPECT_GT(t.chi2.p_value, kAlpha) << what << ": X² = " << t.chi2.statistic << " dof " << t.chi2.dof;
     EXPECT_EQ(t.chi2.observed_in_empty, 0) << what << ": samples where pdf_li is 0";
     // The returned density is the one pdf_li gives (float rounding of the two computations).
@@ -375,10 +378,38 @@ TEST(QuadricLight, DiskIrradianceMatchesAnalytic) {
 
 // ---------------------------- Infinite plane: the half-space that sees it ----------------------------
 
-TEST(PlaneLight, DirectionsFollowTheCosineAboutItsNormal) {
+TEST(PlaneLight, DirectionsFollowTheLuneDensity) {
+    // One side gathers: cosine about ns within the half-space facing the plane, for normals
+    // facing it, across it, tilted away and nearly away from it (the lune from the whole
+    // hemisphere down to a fifth of it). Cells over the hemisphere about ns; the lune's edge
+    // towards the plane crosses them, hence the fine grid for their expected counts.
     const Scene scene = plane_light_scene({0, -1, 0}, -1.f, 1.0);  // y = 1, facing down
-    const LightSampleContext ctx = context({0.3f, -0.7f, 0.2f}, {1, 0, 0});
-    expect_directions_follow_pdf(scene, 0, ctx, {0, 1, 0}, 0.0, "plane");
+    for (const Vec3 n : {Vec3(0, 1, 0), Vec3(1, 0, 0), Vec3(0.6f, 0.8f, 0), Vec3(0, -0.6f, 0.8f)}) {
+        const Vec3 ns = spt::normalize(n);
+        const LightSampleContext ctx = context({0.3f, -0.7f, 0.2f}, ns);
+        expect_directions_follow_pdf(scene, 0, ctx, ns, 0.0, "plane, ns.y = " + std::to_string(ns.y), 2e-3, 64);
+    }
+}
+
+TEST(PlaneLight, BothSidesFollowTheCosineAboutItsNormal) {
+    const Scene scene = plane_light_scene({0, -1, 0}, -1.f, 1.0);  // y = 1, facing down
+    const LightSampleContext ctx = context({0.3f, -0.7f, 0.2f}, {1, 0, 0}, true);
+    expect_directions_follow_pdf(scene, 0, ctx, {0, 1, 0}, 0.0, "plane, both sides");
+}
+
+TEST(PlaneLight, EverySampleOfADiffuseSurfaceGivesTheViewFactor) {
+    // The lune sampler is proportional to the integrand L·cos θ: each sample's estimate is
+    // π·L·(1 + cos α)/2 exactly (cosine sampling about the plane's normal had variance).
+    const double le = 2.5;
+    const Scene scene = plane_light_scene({0, 1, 0}, 2.f, le);  // y = 2
+    for (double alpha_deg : {0.0, 30.0, 90.0, 150.0}) {
+        const double a = alpha_deg * kPi / 180;
+        const Vec3 n(0.f, float(std::cos(a)), float(std::sin(a)));
+        const Estimate e = irradiance(scene, 0, context({0, 0, 0}, spt::normalize(n)), 20000, 3);
+        const double exact = kPi * le * (1 + std::cos(a)) / 2;
+        EXPECT_NEAR(e.mean, exact, 1e-5 * exact) << alpha_deg;
+        EXPECT_LT(e.stderr_, 1e-5 * exact) << alpha_deg;
+    }
 }
 
 TEST(PlaneLight, IrradianceOfTiltedSurfacesMatchesViewFactor) {

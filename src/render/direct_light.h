@@ -1,11 +1,12 @@
 // Next-event estimation in two halves, for the wavefront renderer (wavefront.cpp): a light
 // sample with its shadow ray, queued for the shadow-ray stage, then what it adds once the ray
-// is found clear. They mirror sample_point_lights, sample_area_light and emission_weight of
-// integrator.cpp operation for operation, so both compute the same bits. The path loop keeps
-// its own copies: rewritten on these, its flattened light sampling compiled to different
-// code (20 % smaller sample_area_light) and cornell measured 5 % slower (under load, not
-// conclusive); test_parallel_strategies.cpp compares the two renderers bit for bit on every
-// light type and setting, so any drift between the copies fails there.
+// is found clear. They mirror sample_point_lights and sample_area_light of integrator.cpp
+// operation for operation, so both compute the same bits; the path loop shares shadow_ray_to
+// and emission_weight with them but keeps its own light-sampling functions: rewritten on
+// these, its flattened light sampling compiled to different code (20 % smaller
+// sample_area_light) and cornell measured 5 % slower (under load, not conclusive);
+// test_parallel_strategies.cpp compares the two renderers bit for bit on every light type
+// and setting, so any drift between the copies fails there.
 #pragma once
 #include <optional>
 
@@ -59,6 +60,26 @@ struct SpotLightRay {
     return SpotLightRay{spawn_ray_to(hit, ls->p), f_cos, ls->L};
 }
 
+/// The shadow ray from a hit to a light sample of a light other than points and spots, and a
+/// sphere it may skip (or −1). Shared by the path loop and the wavefront renderer.
+struct ShadowRay {
+    Ray ray;
+    int skip_sphere;
+};
+[[gnu::always_inline]] inline ShadowRay shadow_ray_to(const Scene& scene, const Hit& hit, const LightSample& ls) {
+    if (ls.unoccluding_sphere >= 0 && !scene.uses_bvh())
+        // The light's sphere is not tested: only the origin needs its offset.
+        return {spawn_ray_to(hit, ls.p), ls.unoccluding_sphere};
+    if (ls.infinite) return {spawn_ray(hit, ls.wi), -1};
+    if (ls.plane_distance > 0.f) {
+        // Short of the plane by a relative margin far above the origin's offset.
+        Ray shadow = spawn_ray(hit, ls.wi);
+        shadow.t_max = ls.plane_distance * (1.f - 1e-4f);
+        return {shadow, -1};
+    }
+    return {spawn_ray_between(hit.p, hit.p_err, hit.n, ls.p, ls.p_err, ls.n), -1};
+}
+
 /// One light other than points and spots, chosen by power, with its shadow ray (and a sphere
 /// the ray may skip, or −1).
 struct AreaLightRay {
@@ -84,22 +105,8 @@ template <bool kTextured>
         if (scene.light_textured(index)) ls->L = scene.light_point_emission(index, ls->p, lambda);
     const SampledSpectrum f_cos = bsdf_eval(bsdf, wo, ls->wi, hit.ns, lambda, TransportMode::radiance);
     if (f_cos.is_zero()) return std::nullopt;
-    Ray shadow;
-    int skip_sphere = -1;
-    if (ls->unoccluding_sphere >= 0 && !scene.uses_bvh()) {
-        // The light's sphere is not tested: only the origin needs its offset.
-        shadow = spawn_ray_to(hit, ls->p);
-        skip_sphere = ls->unoccluding_sphere;
-    } else if (ls->infinite) {
-        shadow = spawn_ray(hit, ls->wi);
-    } else if (ls->plane_distance > 0.f) {
-        // Short of the plane by a relative margin far above the origin's offset.
-        shadow = spawn_ray(hit, ls->wi);
-        shadow.t_max = ls->plane_distance * (1.f - 1e-4f);
-    } else {
-        shadow = spawn_ray_between(hit.p, hit.p_err, hit.n, ls->p, ls->p_err, ls->n);
-    }
-    return AreaLightRay{shadow, skip_sphere, f_cos, ls->L, ls->wi, choice * ls->pdf};
+    const ShadowRay shadow = shadow_ray_to(scene, hit, *ls);
+    return AreaLightRay{shadow.ray, shadow.skip_sphere, f_cos, ls->L, ls->wi, choice * ls->pdf};
 }
 
 /// What the sample adds through a clear shadow ray, weighted against BSDF sampling by the

@@ -7,6 +7,7 @@
 #include "core/sample_dimensions.h"
 #include "core/sobol_sampler.h"
 #include "model/bsdfs/bsdf.h"
+#include "render/direct_light.h"
 #include "render/light_context.h"
 #include "render/mis.h"
 
@@ -68,36 +69,12 @@ template <bool kTextured>
     const SampledSpectrum f_cos = bsdf_eval(bsdf, wo, ls->wi, hit.ns, lambda, TransportMode::radiance);
     if (f_cos.is_zero()) return SampledSpectrum(0.f);
     ++stats.rays;
-    Ray shadow;
-    int skip_sphere = -1;
-    if (ls->unoccluding_sphere >= 0 && !scene.uses_bvh()) {
-        // The light's sphere is not tested: only the origin needs its offset.
-        shadow = spawn_ray_to(hit, ls->p);
-        skip_sphere = ls->unoccluding_sphere;
-    } else if (ls->infinite) {
-        shadow = spawn_ray(hit, ls->wi);
-    } else if (ls->plane_distance > 0.f) {
-        // Short of the plane by a relative margin far above the origin's offset.
-        shadow = spawn_ray(hit, ls->wi);
-        shadow.t_max = ls->plane_distance * (1.f - 1e-4f);
-    } else {
-        shadow = spawn_ray_between(hit.p, hit.p_err, hit.n, ls->p, ls->p_err, ls->n);
-    }
-    if (scene.occluded(shadow, skip_sphere, time)) return SampledSpectrum(0.f);
+    const ShadowRay shadow = shadow_ray_to(scene, hit, *ls);
+    if (scene.occluded(shadow.ray, shadow.skip_sphere, time)) return SampledSpectrum(0.f);
     const float pdf_light = choice * ls->pdf;
     if (!mis) return f_cos * ls->L / pdf_light;
     const float pdf_bsdf = bsdf_pdf(bsdf, wo, ls->wi, hit.ns, lambda.lambda[0]);
     return f_cos * ls->L * (power_heuristic(pdf_light, pdf_bsdf) / pdf_light);
-}
-
-/// MIS weight of emission that BSDF sampling found along `wi` from `prev` (light `index`,
-/// reached at `hit`, or escaped when hit is null) against sampling that light directly.
-[[gnu::noinline]] float emission_weight(const Scene& scene, const LightDistribution& choices, int index,
-                                        const LightSampleContext& prev, float pdf_bsdf, const Vec3& wi,
-                                        const Hit* hit) {
-    const float choice = choices.probability(index);
-    if (choice == 0.f) return 1.f;  // a light that next-event estimation never samples
-    return power_heuristic(pdf_bsdf, choice * light_pdf_li(scene.lights[index], prev, wi, hit));
 }
 
 struct NoScratch {};
