@@ -32,14 +32,16 @@ const char* kTrianglePly =
     "property float s\nproperty float t\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
     "-1 1 -1 0 0\n1 1 -1 2 0\n-1 1 1 0 2\n3 0 1 2\n";
 
-Scene load_with_ply(const std::string& text, const std::string& ply) {
+/// The scene `text` whose meshes read `ply`, at `resolution` (exact spectra by default).
+Scene load_with_ply(const std::string& text, const std::string& ply,
+                    SpectralResolution resolution = SpectralResolution{SpectralResolution::kExact}) {
     const RelativeFileReader reader = [&](const std::string&, std::string& contents, std::string& display,
                                           std::string&) {
         contents = ply;
         display = "t.ply";
         return true;
     };
-    return load_scene_text(text, "m.json", "m", SpectralResolution{SpectralResolution::kExact}, reader);
+    return load_scene_text(text, "m.json", "m", resolution, reader);
 }
 
 /// Irradiance at x (floor normal +y) from a polygon of unit radiance (Lambert: E = ½ Σ θ_i
@@ -166,8 +168,10 @@ TEST(MeshEmissionTexture, AConstantTextureOnAMeshRendersAsTheConstant) {
                R"(},
             {"type": "sphere", "center": [0.5, 0.3, 0.5], "radius": 0.3, "material": "floor"}]})";
     };
-    const Scene textured = load_with_ply(scene(R"({"texture": "c"})"), kTrianglePly);
-    const Scene constant = load_with_ply(scene(value), kTrianglePly);
+    // Binned spectra (the default): texture values are kept as those bins (in exact mode the
+    // constant would be evaluated exactly and the texture at 1 nm bins).
+    const Scene textured = load_with_ply(scene(R"({"texture": "c"})"), kTrianglePly, SpectralResolution{});
+    const Scene constant = load_with_ply(scene(value), kTrianglePly, SpectralResolution{});
     ASSERT_TRUE(textured.effects.textures);
     ASSERT_FALSE(constant.effects.textures);
     for (const IntegratorKind kind : {IntegratorKind::path, IntegratorKind::bdpt, IntegratorKind::vcm}) {

@@ -155,9 +155,9 @@ TEST(TextureParameters, ACheckerboardGivesEachSquareItsMaterial) {
 }
 
 /// A plastic roughness between the rows of the coat's table over α (0.3): the coat's albedo
-/// is interpolated in α (within 1.5e-3, coat_albedo.h), so the image differs from the
-/// constant's only by that: the diffuse term's factors (1 − E)·(1 − E)/(1 − E_avg) move by a
-/// few 1.5e-3/(1 − E), under 1 %. Same random numbers, so compared pixel by pixel; the lobe
+/// is interpolated in α (within 3.2e-3 for cos θ ≥ 0.1, coat_albedo.h), so the image differs
+/// from the constant's only by that: the diffuse term's factors (1 − E)·(1 − E)/(1 − E_avg) move
+/// by a few 3.2e-3/(1 − E), about 1 %. Same random numbers, so compared pixel by pixel; the lobe
 /// choice (its probability moves with E too) may go the other way in a rare sample, which
 /// changes its pixel by the noise: at most 5 % of the pixels may differ by more.
 TEST(TextureParameters, PlasticRoughnessBetweenTableRowsWithinTheTablesError) {

@@ -212,7 +212,7 @@ TEST(SurfaceTangent, IsTheDirectionOfGrowingUOnEveryShape) {
         {"type": "cylinder", "base": [20, -1, 0], "axis": [0, 1, 0], "radius": 1, "height": 4, "material": "m"},
         {"type": "cone", "base": [30, -1, 0], "axis": [0, 1, 0], "radius": 1, "height": 2, "material": "m"}]})";
     const Scene scene = load_scene_text(text, "tangent.json", "tangent", {}, {});
-    const std::pair<float, float> points[] = {{0.f, 0.f},    {2.5f, -0.6f},  {-0.6f, 0.9f}, {10.5f, 0.5f}, {40.4f, 0.7f},
+    const std::pair<float, float> points[] = {{0.f, 0.f},    {2.5f, 0.2f},  {-0.6f, 0.9f}, {10.5f, 0.5f}, {40.4f, 0.7f},
                                               {39.3f, -0.5f}, {50.3f, 0.2f},  {20.3f, 1.f},  {29.8f, 0.f}};
     for (const auto& [x, y] : points) {
         const std::optional<Hit> hit = scene.intersect({{x, y, 5}, {0, 0, -1}, kInfinity});
@@ -228,7 +228,7 @@ TEST(SurfaceTangent, IsTheDirectionOfGrowingUOnEveryShape) {
         EXPECT_LT(std::fabs(v1 - v0), 0.02f * std::fabs(u1 - u0)) << "at x = " << x;
     }
     // The quad's two triangles: edge1 on both.
-    for (const auto& [x, y] : {std::pair{2.5f, -0.6f}, {-0.6f, 0.9f}}) {
+    for (const auto& [x, y] : {std::pair{2.5f, 0.2f}, {-0.6f, 0.9f}}) {
         const Vec3 t = normalize(scene.surface_tangent(*scene.intersect({{x, y, 5}, {0, 0, -1}, kInfinity})));
         EXPECT_NEAR(dot(t, normalize(Vec3(4, 0.5f, 0))), 1.f, 1e-5f);
     }
@@ -420,7 +420,7 @@ TEST(TextureRender, TheVolumetricPathReadsTexturesAsThePathTracerDoes) {
     const std::string camera = R"({"camera": {"position": [0, 2, 3], "look_at": [0, 0, 0]}, )";
     const Scene plain = test::load_exact_scene(camera + shapes, "plain");
     const Scene vacuum = test::load_exact_scene(
-        camera + R"("media": {"vacuum": {"type": "homogeneous", "sigma_a": 0, "sigma_s": 0}}, "medium": "vacuum", )" + shapes,
+        camera + R"("media": {"clear": {"type": "homogeneous", "sigma_a": 0, "sigma_s": 0}}, "medium": "clear", )" + shapes,
         "vacuum");
     ASSERT_TRUE(vacuum.effects.media);
     ASSERT_TRUE(vacuum.effects.textures);
