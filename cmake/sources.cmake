@@ -15,6 +15,7 @@ set(SPT_CORE_SOURCES
     src/io/atomic_file.cpp
     src/io/auto_exposure.cpp
     src/model/aperture.cpp
+    src/model/bsdfs/coat_albedo.cpp
     src/model/bsdfs/dielectric.cpp
     src/model/bsdfs/lobe_mix.cpp
     src/model/bsdfs/plastic.cpp

@@ -85,6 +85,7 @@ const MaterialCase kCases[] = {
     {"lobes glass", R"({"kt": 1, "ior": 1.5})"},
     {"conductor smooth", R"({"type": "conductor", "metal": "Cu"})"},
     {"conductor rough", R"({"type": "conductor", "metal": "Au", "roughness": 0.2})"},
+    {"conductor anisotropic", R"({"type": "conductor", "metal": "Al", "roughness_u": 0.05, "roughness_v": 0.4})"},
     {"conductor rough + film",
      R"({"type": "conductor", "metal": "Al", "roughness": 0.1, "film": {"thickness_nm": 300, "ior": 1.46}})"},
     {"dielectric rough SF11", R"({"type": "dielectric", "ior": {"type": "glass", "name": "SF11"}, "roughness": 0.15})"},

@@ -4,8 +4,9 @@
 //   - k = 0 gives the dielectric Fresnel; grazing incidence reflects everything;
 //   - the metal tables cover the sampled range and give gold its colour (red reflects more
 //     than blue); silver and aluminium reflect > 85 % across the visible;
-//   - scene files: "metal": "Au", explicit eta/k, and the clear errors for unknown metals,
-//     anisotropic roughness, a dispersive plastic coat, both metal and eta.
+//   - scene files: "metal": "Au", explicit eta/k, anisotropic roughness (roughness_u,
+//     roughness_v), and the clear errors for unknown metals, anisotropic roughness given
+//     wrongly or on another type, a dispersive plastic coat, both metal and eta.
 #include <gtest/gtest.h>
 
 #include <complex>
@@ -110,8 +111,26 @@ TEST(Conductor, SceneFileMaterials) {
     EXPECT_TRUE(std::get_if<PlasticBsdf>(&load(R"({"type": "plastic", "kd": [0.2, 0.3, 0.7], "roughness": 0.3})").materials[0].bsdf));
 
     EXPECT_NE(error_of(R"({"type": "conductor", "metal": "Gold"})").find("unknown metal"), std::string::npos);
-    EXPECT_NE(error_of(R"({"type": "conductor", "metal": "Au", "roughness": [0.1, 0.3]})").find("anisotropic"), std::string::npos);
-    EXPECT_NE(error_of(R"({"type": "conductor", "metal": "Au", "roughness_u": 0.1})").find("tangent"), std::string::npos);
+    EXPECT_NE(error_of(R"({"type": "conductor", "metal": "Au", "roughness": [0.1, 0.3]})").find("roughness_u"), std::string::npos);
+    // Anisotropic roughness: both keys, numbers in [0.001, 1], conductors only.
+    const Scene a = load(R"({"type": "conductor", "metal": "Al", "roughness_u": 0.05, "roughness_v": 0.4})");
+    const ConductorBsdf* brushed = std::get_if<ConductorBsdf>(&a.materials[0].bsdf);
+    ASSERT_TRUE(brushed);
+    EXPECT_TRUE(brushed->anisotropic());
+    EXPECT_FLOAT_EQ(brushed->aniso.alpha_x, 0.05f);
+    EXPECT_FLOAT_EQ(brushed->aniso.alpha_y, 0.4f);
+    EXPECT_TRUE(a.materials[0].has_non_delta());
+    EXPECT_TRUE(a.materials[0].textured);  // read per hit: its tangent
+    EXPECT_TRUE(a.effects.textures);
+    EXPECT_FALSE(s.materials[0].textured);
+    EXPECT_NE(error_of(R"({"type": "conductor", "metal": "Au", "roughness_u": 0.1})").find("only one of"), std::string::npos);
+    EXPECT_NE(error_of(R"({"type": "conductor", "metal": "Au", "roughness_u": 0.1, "roughness_v": 0, "roughness": 0.1})")
+                  .find("has both \"roughness\""), std::string::npos);
+    EXPECT_NE(error_of(R"({"type": "conductor", "metal": "Au", "roughness_u": 0.1, "roughness_v": 0})").find("[0.001, 1]"),
+              std::string::npos);
+    EXPECT_NE(error_of(R"({"type": "dielectric", "ior": 1.5, "roughness_u": 0.1, "roughness_v": 0.2})")
+                  .find("conductors only"), std::string::npos);
+    EXPECT_NE(error_of(R"({"type": "conductor", "metal": "Au", "anisotropy": 0.5})").find("roughness_u"), std::string::npos);
     EXPECT_NE(error_of(R"({"type": "conductor", "metal": "Au", "k": 2})").find("both"), std::string::npos);
     EXPECT_NE(error_of(R"({"type": "conductor", "eta": 0.2})").find("not both"), std::string::npos);
     EXPECT_NE(error_of(R"({"type": "conductor", "metal": "Au", "roughness": 1.5})").find("[0, 1]"), std::string::npos);

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -198,6 +199,41 @@ TEST(SurfaceUv, QuadTriangleCylinderAndCone) {
     EXPECT_NEAR(uv_at(30, 0, ShapeKind::cone).second, 0.5f, 1e-5f);
 }
 
+TEST(SurfaceTangent, IsTheDirectionOfGrowingUOnEveryShape) {
+    // The tangent anisotropic BSDFs are oriented by (Scene::surface_tangent): a small step
+    // along it on the surface changes u and (to first order) not v. Quads keep their (u, v)
+    // for an anisotropic material, so both of their triangles have edge1's direction.
+    const std::string text = R"({"camera": {"position": [0, 0, 5], "look_at": [0, 0, 0]},
+      "materials": {"m": {"kd": 0.5}, "brushed": {"type": "conductor", "metal": "Al", "roughness_u": 0.05, "roughness_v": 0.3}},
+      "shapes": [{"type": "quad", "origin": [-1, -1, 0], "edge1": [4, 0.5, 0], "edge2": [0, 2, 0], "material": "brushed"},
+        {"type": "triangle", "vertices": [[10, 0, 0], [12, 0.5, 0], [10, 2, 0]], "material": "m"},
+        {"type": "sphere", "center": [40, 0, -1], "radius": 1.5, "material": "m"},
+        {"type": "disk", "center": [50, 0, 0], "normal": [0, 0.3, 1], "radius": 1, "material": "m"},
+        {"type": "cylinder", "base": [20, -1, 0], "axis": [0, 1, 0], "radius": 1, "height": 4, "material": "m"},
+        {"type": "cone", "base": [30, -1, 0], "axis": [0, 1, 0], "radius": 1, "height": 2, "material": "m"}]})";
+    const Scene scene = load_scene_text(text, "tangent.json", "tangent", {}, {});
+    const std::pair<float, float> points[] = {{0.f, 0.f},    {2.5f, 0.2f},  {-0.6f, 0.9f}, {10.5f, 0.5f}, {40.4f, 0.7f},
+                                              {39.3f, -0.5f}, {50.3f, 0.2f},  {20.3f, 1.f},  {29.8f, 0.f}};
+    for (const auto& [x, y] : points) {
+        const std::optional<Hit> hit = scene.intersect({{x, y, 5}, {0, 0, -1}, kInfinity});
+        ASSERT_TRUE(hit) << x;
+        const Vec3 t = scene.surface_tangent(*hit);
+        ASSERT_GT(length(t), 0.f) << x;
+        float u0, v0, u1, v1;
+        scene.surface_uv(*hit, u0, v0);
+        Hit moved = *hit;
+        moved.p = hit->p + normalize(t - hit->n * dot(t, hit->n)) * 1e-3f;
+        scene.surface_uv(moved, u1, v1);
+        EXPECT_GT(std::fabs(u1 - u0), 1e-4f) << "at x = " << x;
+        EXPECT_LT(std::fabs(v1 - v0), 0.02f * std::fabs(u1 - u0)) << "at x = " << x;
+    }
+    // The quad's two triangles: edge1 on both.
+    for (const auto& [x, y] : {std::pair{2.5f, 0.2f}, {-0.6f, 0.9f}}) {
+        const Vec3 t = normalize(scene.surface_tangent(*scene.intersect({{x, y, 5}, {0, 0, -1}, kInfinity})));
+        EXPECT_NEAR(dot(t, normalize(Vec3(4, 0.5f, 0))), 1.f, 1e-5f);
+    }
+}
+
 TEST(Checkerboard, CellsLandWhereTheUvMappingPutsThem) {
     // A 4 x 2 quad with 4 x 4 cells over its (u, v): the cell of (x, y) is
     // (⌊(x + 1)⌋, ⌊2(y + 1)⌋), "even" (0.2) when their sum is even, "odd" (0.8) otherwise.
@@ -367,6 +403,34 @@ TEST(TextureRender, AnEmissionTextureSeenDirectlyHasItsColour) {
     EXPECT_NEAR(rgb[0], 1.0, 0.02);
     EXPECT_NEAR(rgb[1], 0.5, 0.01);
     EXPECT_NEAR(rgb[2], 0.25, 0.01);
+}
+
+TEST(TextureRender, TheVolumetricPathReadsTexturesAsThePathTracerDoes) {
+    // The same textured scene (a checkerboard kd floor lit by a checkerboard-emitting sphere
+    // and triangle) in a medium that neither absorbs nor scatters: the volumetric path tracer
+    // must find the path tracer's image. Planted bug (the state before): the volumetric loop
+    // read Material::bsdf (the kd envelope, 0.8 everywhere) and the lights' Le (their mean
+    // radiance), which brightens the floor far beyond 5σ.
+    const std::string shapes = R"("textures": {"f": {"type": "checkerboard", "even": 0.8, "odd": 0.05, "uv_scale": [4, 4]},
+                   "e": {"type": "checkerboard", "even": 12, "odd": 0.5, "uv_scale": [6, 3]}},
+      "materials": {"m": {"kd": {"texture": "f"}}},
+      "shapes": [{"type": "quad", "origin": [-2, 0, 2], "edge1": [4, 0, 0], "edge2": [0, 0, -4], "material": "m"},
+        {"type": "sphere", "center": [0.3, 1.2, 0], "radius": 0.3, "emission": {"texture": "e"}},
+        {"type": "triangle", "vertices": [[-1, 0.8, -0.5], [-0.4, 0.8, -0.5], [-1, 1.2, 0]], "emission": {"texture": "e"}}]})";
+    const std::string camera = R"({"camera": {"position": [0, 2, 3], "look_at": [0, 0, 0]}, )";
+    const Scene plain = test::load_exact_scene(camera + shapes, "plain");
+    const Scene vacuum = test::load_exact_scene(
+        camera + R"("media": {"clear": {"type": "homogeneous", "sigma_a": 0, "sigma_s": 0}}, "medium": "clear", )" + shapes,
+        "vacuum");
+    ASSERT_TRUE(vacuum.effects.media);
+    ASSERT_TRUE(vacuum.effects.textures);
+    const RenderSettings rs = test::small_settings(24, 16, 64, 3);
+    const test::ImageMean a = test::image_mean_y(*test::render_film(plain, rs));
+    const test::ImageMean b = test::image_mean_y(*test::render_film(vacuum, rs));
+    std::printf("[textures in a medium] path %.5f ± %.5f, volumetric %.5f ± %.5f\n", a.mean, a.standard_error, b.mean,
+                b.standard_error);
+    EXPECT_NEAR(a.mean, b.mean, 5 * std::hypot(a.standard_error, b.standard_error));
+    EXPECT_GT(a.mean, 0.01);
 }
 
 }  // namespace

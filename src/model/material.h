@@ -9,12 +9,19 @@
 
 namespace spt {
 
+/// The BSDF reads the surface's tangent at each hit (an anisotropic conductor).
+inline bool needs_tangent(const Bsdf& bsdf) {
+    const ConductorBsdf* c = std::get_if<ConductorBsdf>(&bsdf);
+    return c && c->anisotropic();
+}
+
 struct Material {
     std::string name;
     Bsdf bsdf;
     BsdfFlags flags;  ///< bsdf_flags(bsdf), kept by Scene::add_material / finalize
-    /// Some parameter is bound to a texture (`textures`): the integrators then take the BSDF
-    /// from Scene::textured_bsdf at each hit. One byte in the padding after `flags`.
+    /// Some parameter is bound to a texture (`textures`), or the BSDF needs the surface's
+    /// tangent (needs_tangent): the integrators then take the BSDF from Scene::textured_bsdf
+    /// at each hit. One byte in the padding after `flags`.
     bool textured = false;
 
     /// Has a lobe at all (a pure emitter or a black surface ends paths).

@@ -102,7 +102,7 @@ template <bool kTextured>
     std::optional<LightSample> ls = light_sample_li(scene.lights[index], ctx, lambda, u1, u2);
     if (!ls) return std::nullopt;
     if constexpr (kTextured)
-        if (scene.light_textured(index)) ls->L = scene.light_point_emission(index, ls->p, lambda);
+        if (scene.light_textured(index)) ls->L = scene.light_point_emission(index, ls->p, ls->triangle, lambda);
     const SampledSpectrum f_cos = bsdf_eval(bsdf, wo, ls->wi, hit.ns, lambda, TransportMode::radiance);
     if (f_cos.is_zero()) return std::nullopt;
     const ShadowRay shadow = shadow_ray_to(scene, hit, *ls);

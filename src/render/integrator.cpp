@@ -65,7 +65,7 @@ template <bool kTextured>
     std::optional<LightSample> ls = light_sample_li(scene.lights[index], ctx, lambda, u1, u2);
     if (!ls) return SampledSpectrum(0.f);
     if constexpr (kTextured)
-        if (scene.light_textured(index)) ls->L = scene.light_point_emission(index, ls->p, lambda);
+        if (scene.light_textured(index)) ls->L = scene.light_point_emission(index, ls->p, ls->triangle, lambda);
     const SampledSpectrum f_cos = bsdf_eval(bsdf, wo, ls->wi, hit.ns, lambda, TransportMode::radiance);
     if (f_cos.is_zero()) return SampledSpectrum(0.f);
     ++stats.rays;

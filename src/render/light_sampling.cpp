@@ -65,7 +65,7 @@ std::optional<LightOrigin> LightSampler::sample(const SampledWavelengths& lambda
     o->pdf_pos *= choice;
     o->light = index;
     // An emission texture: its radiance at the point (uniform by area, so the densities stay).
-    if (m_scene.light_textured(index)) o->Le = m_scene.light_point_emission(index, o->p, lambda);
+    if (m_scene.light_textured(index)) o->Le = m_scene.light_point_emission(index, o->p, o->triangle, lambda);
     return o;
 }
 

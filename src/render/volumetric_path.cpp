@@ -22,6 +22,14 @@ inline float mean_active(const SampledSpectrum& r, const SampledWavelengths& lam
     return lambda.secondary_terminated() ? r[0] : r.average();
 }
 
+/// The BSDF at a surface hit: its material's, or for a textured material the one with its
+/// parameters read at the hit (in this thread's scratch BSDF, as bdpt's bsdf_at).
+const Bsdf& bsdf_at(const Scene& scene, const Hit& hit, const Material& m) {
+    if (!m.textured) [[likely]] return m.bsdf;
+    thread_local Bsdf scratch;
+    return scene.textured_bsdf(hit, scratch);
+}
+
 /// The value f (BSDF·|cos| or phase function) and solid-angle density of scattering into wi.
 struct ScatterEval {
     SampledSpectrum f;
@@ -66,8 +74,9 @@ SampledSpectrum direct_light(const Scene& scene, const IntegratorSettings& setti
     float choice = 0.f;
     const int index = choices.sample(rng.uniform(), choice);
     const float u1 = rng.uniform(), u2 = rng.uniform();
-    const std::optional<LightSample> ls = light_sample_li(scene.lights[index], ctx, lambda, u1, u2);
+    std::optional<LightSample> ls = light_sample_li(scene.lights[index], ctx, lambda, u1, u2);
     if (!ls) return Ld;
+    if (scene.light_textured(index)) ls->L = scene.light_point_emission(index, ls->p, ls->triangle, lambda);
     const ScatterEval se = eval(ls->wi);
     if (se.f.is_zero()) return Ld;
     // The shadow ray, as the surface path tracer builds it (integrator.cpp).
@@ -274,9 +283,13 @@ SegmentTransmittance segment_transmittance(const Scene& scene, Ray ray, int medi
         crossings = 0;
         const Material& mat = scene.materials[hit->material];
         const Vec3 wo = -ray.d;
-        if (hit->light >= 0) add_emission(hit->light, scene.emitted(*hit, lambda), &*hit);
+        if (hit->light >= 0)
+            add_emission(hit->light,
+                         scene.effects.textures ? scene.emitted_textured(*hit, lambda) : scene.emitted(*hit, lambda),
+                         &*hit);
         if (!mat.reflects() || depth == settings.max_depth) break;
         ++depth;
+        const Bsdf& bsdf = bsdf_at(scene, *hit, mat);
 
         // ---- Next-event estimation at vertices with a non-delta lobe ----
         const MediumInterface sides = scene.medium_interface(hit->prim);
@@ -284,8 +297,8 @@ SegmentTransmittance segment_transmittance(const Scene& scene, Ray ray, int medi
         const LightSampleContext ctx = light_context(*hit, mat, wo);
         if (mat.has_non_delta() && (delta_nee || area_nee)) {
             auto eval = [&](const Vec3& wi) {
-                return ScatterEval{bsdf_eval(mat.bsdf, wo, wi, hit->ns, lambda, TransportMode::radiance),
-                                   bsdf_pdf(mat.bsdf, wo, wi, hit->ns, lambda.lambda[0])};
+                return ScatterEval{bsdf_eval(bsdf, wo, wi, hit->ns, lambda, TransportMode::radiance),
+                                   bsdf_pdf(bsdf, wo, wi, hit->ns, lambda.lambda[0])};
             };
             L += beta * direct_light(scene, settings, choices, area_nee, sp, ctx, eval, r_u, lambda, rng, stats);
         }
@@ -293,7 +306,7 @@ SegmentTransmittance segment_transmittance(const Scene& scene, Ray ray, int medi
         // ---- Continue the path; a refraction changes the medium ----
         const float u_lobe = rng.uniform(), u1 = rng.uniform(), u2 = rng.uniform();
         const std::optional<BsdfSample> bs =
-            bsdf_sample(mat.bsdf, wo, hit->ns, lambda, u_lobe, u1, u2, TransportMode::radiance);
+            bsdf_sample(bsdf, wo, hit->ns, lambda, u_lobe, u1, u2, TransportMode::radiance);
         if (!bs) break;
         beta *= bs->weight;
         eta_scale *= bs->eta_scale;

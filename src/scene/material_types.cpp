@@ -1,6 +1,7 @@
 // Parsing and checks of the conductor, dielectric, plastic and thin_sheet materials.
 #include "scene/material_types.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -13,12 +14,37 @@ namespace {
 
 const std::vector<std::string> kTypes = {"conductor", "dielectric", "plastic", "thin_sheet"};
 
-/// "roughness": the GGX α in [0, 1] (0, the default, is smooth: a delta lobe).
-void reject_anisotropy(const SpectrumParser& p, const JsonValue& def, const std::string& what) {
-    for (const char* key : {"roughness_u", "roughness_v", "anisotropy"})
+/// Anisotropic roughness is a conductor's ("roughness_u", "roughness_v"); on the other types
+/// those keys, and "anisotropy" anywhere, are errors that say so.
+void reject_anisotropy(const SpectrumParser& p, const JsonValue& def, const std::string& type, const std::string& what) {
+    if (const JsonValue* v = def.find("anisotropy"))
+        p.fail(v->pos(), what + " anisotropy: anisotropic roughness is given by \"roughness_u\" and \"roughness_v\" "
+                                "(conductors only); expected those instead");
+    if (type == "conductor") return;
+    for (const char* key : {"roughness_u", "roughness_v"})
         if (const JsonValue* v = def.find(key))
-            p.fail(v->pos(), what + " " + key + ": anisotropic roughness needs a surface tangent, which materials "
-                                        "do not have; expected one number \"roughness\" in [0, 1]");
+            p.fail(v->pos(), what + " " + key + ": anisotropic roughness is available for conductors only; expected "
+                                        "one number \"roughness\" in [0, 1]");
+}
+
+/// "roughness_u", "roughness_v" (both or neither, not with "roughness"): α along the surface's
+/// dp/du and across it, each a number in [0.001, 1].
+void anisotropic_roughness(const SpectrumParser& p, const JsonValue& def, const std::string& what,
+                           const FloatParameter& number, ConductorBsdf& c) {
+    const JsonValue *ru = def.find("roughness_u"), *rv = def.find("roughness_v");
+    if (!ru && !rv) return;
+    if (!ru || !rv)
+        p.fail((ru ? ru : rv)->pos(), what + " has only one of \"roughness_u\" and \"roughness_v\"; expected both "
+                                             "(α along the surface's u direction and across it)");
+    if (const JsonValue* r = def.find("roughness"))
+        p.fail(r->pos(), what + " has both \"roughness\" and \"roughness_u\"/\"roughness_v\"; expected one of them");
+    for (const JsonValue* v : {ru, rv})
+        if (!v->is_number())
+            p.fail(v->pos(), what + " roughness_u and roughness_v must be numbers (they cannot be textures); expected "
+                                    "a number in [0.001, 1]");
+    c.aniso.alpha_x = number(*ru, "roughness_u", what + " roughness_u", 1e-3, 1, false);
+    c.aniso.alpha_y = number(*rv, "roughness_v", what + " roughness_v", 1e-3, 1, false);
+    c.ggx.alpha = std::max(c.aniso.alpha_x, c.aniso.alpha_y);  // rough: the flags
 }
 
 GgxDistribution roughness(const SpectrumParser& p, const JsonValue& def, const std::string& what,
@@ -27,8 +53,8 @@ GgxDistribution roughness(const SpectrumParser& p, const JsonValue& def, const s
     const JsonValue* v = def.find("roughness");
     if (!v) return g;
     if (v->is_array())
-        p.fail(v->pos(), what + " roughness is an array: anisotropic roughness needs a surface tangent, which "
-                                "materials do not have; expected one number in [0, 1]");
+        p.fail(v->pos(), what + " roughness is an array; expected one number in [0, 1] (a conductor's anisotropic "
+                                "roughness: \"roughness_u\" and \"roughness_v\")");
     g.alpha = number(*v, "roughness", what + " roughness", 0, 1, false);
     return g;
 }
@@ -48,7 +74,7 @@ ThinFilm film(const SpectrumParser& p, const JsonValue& def, const std::string& 
 
 ConductorBsdf conductor(const SpectrumParser& p, const JsonValue& def, const std::string& what,
                         const FloatParameter& number) {
-    p.check_keys(def, what, {"type", "metal", "eta", "k", "roughness", "film", "emission"});
+    p.check_keys(def, what, {"type", "metal", "eta", "k", "roughness", "roughness_u", "roughness_v", "film", "emission"});
     ConductorBsdf c;
     const JsonValue* metal = def.find("metal");
     const JsonValue *eta = def.find("eta"), *k = def.find("k");
@@ -70,6 +96,7 @@ ConductorBsdf conductor(const SpectrumParser& p, const JsonValue& def, const std
         c.k = p.spectrum(*k, what + " k", SpectrumUse::Extinction);
     }
     c.ggx = roughness(p, def, what, number);
+    anisotropic_roughness(p, def, what, number, c);
     c.film = film(p, def, what, number);
     return c;
 }
@@ -96,10 +123,9 @@ PlasticBsdf plastic(const SpectrumParser& p, const JsonValue& def, const std::st
                                     "albedo table is built for one index)");
         eta = s.eval(550.f);
     }
-    if (const JsonValue* v = def.find("roughness"); v && v->is_object())
-        p.fail(v->pos(), what + " roughness cannot be bound to a texture (the coat's albedo table is built for "
-                                "one roughness); expected a number in [0, 1]");
-    return make_plastic(std::move(kd), eta, roughness(p, def, what, number).alpha);
+    // A textured roughness (an object {"texture": NAME}) reads the coat's albedo over α.
+    const JsonValue* r = def.find("roughness");
+    return make_plastic(std::move(kd), eta, roughness(p, def, what, number).alpha, r && r->is_object());
 }
 
 ThinSheetBsdf thin_sheet(const SpectrumParser& p, const JsonValue& def, const std::string& what,
@@ -141,7 +167,7 @@ bool is_microfacet_material_type(const std::string& type) {
 Bsdf parse_microfacet_material(const SpectrumParser& spectra, const JsonValue& def, const std::string& type,
                                const std::string& what, const FloatParameter& number) {
     const std::string w = what + " of type " + quote_text(type);
-    reject_anisotropy(spectra, def, w);  // before the key check, which would only call it unknown
+    reject_anisotropy(spectra, def, type, w);  // before the key check, which would only call it unknown
     if (type == "conductor") return conductor(spectra, def, w, number);
     if (type == "dielectric") return dielectric(spectra, def, w, number);
     if (type == "plastic") return plastic(spectra, def, w, number);
@@ -153,6 +179,10 @@ void validate_surface_model(const Bsdf& bsdf, const std::string& who) {
         check_range(c->eta, who + " eta", 1e-3, 100);
         check_range(c->k, who + " k", 0, 100);
         check_alpha(c->ggx, who);
+        if (c->aniso.alpha_x != 0.f || c->aniso.alpha_y != 0.f)
+            if (!(c->aniso.alpha_x >= 1e-3f && c->aniso.alpha_x <= 1.f && c->aniso.alpha_y >= 1e-3f &&
+                  c->aniso.alpha_y <= 1.f))
+                throw SceneError(who + " roughness_u and roughness_v must be in [0.001, 1]");
         check_film(c->film, who);
     } else if (const DielectricBsdf* d = std::get_if<DielectricBsdf>(&bsdf)) {
         check_range(d->eta, who + " index of refraction", 1, 100);

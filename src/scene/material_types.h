@@ -1,5 +1,6 @@
 // Scene-file materials of the microfacet-era types (see scenes/README.md, "Materials"):
-//   conductor   metal: "metal": "Au" | "eta" + "k" spectra; "roughness"; "film"
+//   conductor   metal: "metal": "Au" | "eta" + "k" spectra; "roughness" (or "roughness_u" +
+//               "roughness_v": anisotropic along the surface's dp/du); "film"
 //   dielectric  glass interface: "ior" spectrum; "roughness"; "film"
 //   plastic     diffuse base under a clear coat: "kd", "ior" (constant), "roughness"
 //   thin_sheet  soap bubble: "thickness_nm", "ior"

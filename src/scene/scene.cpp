@@ -63,7 +63,7 @@ void Scene::disable_dispersion() {
 
 int Scene::add_material(Material m) {
     m.flags = bsdf_flags(m.bsdf);
-    m.textured = !m.textures.empty();
+    m.textured = !m.textures.empty() || needs_tangent(m.bsdf);
     materials.push_back(std::move(m));
     return static_cast<int>(materials.size()) - 1;
 }
@@ -122,18 +122,48 @@ void Scene::surface_uv(const Hit& hit, float& u, float& v) const {
         case ShapeKind::triangle: break;
         case ShapeKind::instance: u = v = 0.f; return;  // not kept for instances (see scenes/README.md)
     }
+    triangle_uv(triangles[i], hit.p, u, v);
+}
+
+Vec3 Scene::surface_tangent(const Hit& hit) const {
+    const std::uint32_t i = hit.prim.index();
+    // Around an axis: the direction of growing φ at p (the sphere's about +y).
+    auto around = [&](const Vec3& axis, const Vec3& centre) { return cross(axis, hit.p - centre); };
+    switch (hit.prim.kind()) {
+        case ShapeKind::sphere: return around({0, -1, 0}, spheres[i].center);  // u = φ/2π from +x to +z
+        case ShapeKind::plane: return planes[i].tangent_u;
+        case ShapeKind::disk: return around(disks[i].normal, disks[i].center);
+        case ShapeKind::cylinder: return around(cylinders[i].axis, cylinders[i].base);
+        case ShapeKind::cone: return around(cones[i].axis, cones[i].base);
+        case ShapeKind::triangle: break;
+        case ShapeKind::moving:
+        case ShapeKind::instance: return {};  // none kept: the BSDF takes a fixed perpendicular
+    }
     const Triangle& t = triangles[i];
+    const Vec3 e1 = t.p1 - t.p0, e2 = t.p2 - t.p0;
+    if (t.attributes >= 0 && triangle_attributes[static_cast<std::size_t>(t.attributes)].has_uv) {
+        // dp/du from the vertices' (u, v): e1 = du1·dp/du + dv1·dp/dv, e2 likewise.
+        const TriangleAttributes& a = triangle_attributes[static_cast<std::size_t>(t.attributes)];
+        const float du1 = a.uv[1][0] - a.uv[0][0], dv1 = a.uv[1][1] - a.uv[0][1];
+        const float du2 = a.uv[2][0] - a.uv[0][0], dv2 = a.uv[2][1] - a.uv[0][1];
+        const float det = du1 * dv2 - dv1 * du2;
+        if (det != 0.f && std::isfinite(det)) return (e1 * dv2 - e2 * dv1) / det;
+    }
+    return e1;  // u = b1: p moves along p1 − p0
+}
+
+void Scene::triangle_uv(const Triangle& t, const Vec3& p, float& u, float& v) const {
     if (t.attributes >= 0 && triangle_attributes[static_cast<std::size_t>(t.attributes)].has_uv) {
         // The vertices' (u, v) interpolated with the barycentrics of p.
         float b1, b2;
-        t.uv(hit.p, b1, b2);
+        t.uv(p, b1, b2);
         const TriangleAttributes& a = triangle_attributes[static_cast<std::size_t>(t.attributes)];
         const float b0 = 1.f - b1 - b2;
         u = b0 * a.uv[0][0] + b1 * a.uv[1][0] + b2 * a.uv[2][0];
         v = b0 * a.uv[0][1] + b1 * a.uv[1][1] + b2 * a.uv[2][1];
         return;
     }
-    t.uv(hit.p, u, v);
+    t.uv(p, u, v);
 }
 
 void validate_material(const Material& m) {
@@ -224,7 +254,7 @@ void Scene::finalize() {
     for (Material& m : materials) {
         validate_material(m);
         m.flags = bsdf_flags(m.bsdf);
-        m.textured = !m.textures.empty();
+        m.textured = !m.textures.empty() || needs_tangent(m.bsdf);
         for (const TextureBinding& b : m.textures) {
             require(b.parameter && b.texture >= 0 && b.texture < static_cast<int>(textures.size()),
                     "material '" + m.name + "' refers to a texture that does not exist");
@@ -397,10 +427,10 @@ void Scene::finalize() {
             const int t = light_textures[i];
             if (t < 0) continue;
             require(t < static_cast<int>(textures.size()), "an emitter refers to a texture that does not exist");
-            require(!std::holds_alternative<TriangleMeshLight>(lights[i]) && !std::holds_alternative<PointLight>(lights[i]) &&
+            require(!std::holds_alternative<PointLight>(lights[i]) && !std::holds_alternative<SpotLight>(lights[i]) &&
                         !std::holds_alternative<EnvironmentLight>(lights[i]),
-                    "an emission texture is on a light without surface coordinates (a triangle, mesh, point "
-                    "light or the background)");
+                    "an emission texture is on a light without surface coordinates (a point or spot light, or "
+                    "the background)");
             effects.textures = true;
         }
     }

@@ -100,8 +100,8 @@ struct Scene {
     /// are bound to.
     std::vector<Texture> textures;
     /// Per light: the texture its emission is bound to, or −1 (empty: none is). Only area
-    /// lights whose points have surface coordinates (spheres, quads, planes, disks,
-    /// cylinders, cones) may have one.
+    /// lights may have one (their points have surface coordinates). The light's own Le is
+    /// then the texture's mean (its power for light selection).
     std::vector<int> light_textures;
 
     Effects effects;  ///< filled by finalize()
@@ -141,11 +141,18 @@ struct Scene {
     }
     /// Surface coordinates of a hit (see each shape's uv()).
     void surface_uv(const Hit& hit, float& u, float& v) const;
+    /// The direction of growing u at a hit (dp/du, not normalised; zero where a shape keeps
+    /// none): the tangent of anisotropic BSDFs.
+    Vec3 surface_tangent(const Hit& hit) const;
+    /// Surface coordinates of the point p on triangle t: its vertices' (u, v) interpolated
+    /// (meshes with u, v or s, t; quads with a texture), else the barycentrics (b1, b2).
+    void triangle_uv(const Triangle& t, const Vec3& p, float& u, float& v) const;
 
     // Textures (scene_textures.cpp): only integrators of scenes with effects.textures call these.
     /// The BSDF of a textured material at `hit`: `scratch` becomes the material's BSDF with
-    /// each bound parameter set to its texture's value at the hit's (u, v); returns it.
-    /// Allocates nothing once `scratch` has held this material's BSDF.
+    /// each bound parameter set to its texture's value at the hit's (u, v), and an
+    /// anisotropic conductor's tangent to the surface's; returns it. Allocates nothing once
+    /// `scratch` has held this material's BSDF.
     const Bsdf& textured_bsdf(const Hit& hit, Bsdf& scratch) const;
     /// emitted() with textured emitters read at the hit's (u, v).
     SampledSpectrum emitted_textured(const Hit& hit, const SampledWavelengths& lambda) const;
@@ -153,8 +160,10 @@ struct Scene {
     bool light_textured(int index) const {
         return static_cast<std::size_t>(index) < light_textures.size() && light_textures[static_cast<std::size_t>(index)] >= 0;
     }
-    /// Radiance of textured light `index` at the point p on it (a light sample's point).
-    SampledSpectrum light_point_emission(int index, const Vec3& p, const SampledWavelengths& lambda) const;
+    /// Radiance of textured light `index` at the point p on it (a light sample's point; on a
+    /// mesh light, on its triangle `triangle`: LightSample::triangle).
+    SampledSpectrum light_point_emission(int index, const Vec3& p, std::uint32_t triangle,
+                                         const SampledWavelengths& lambda) const;
     /// Checks every value (throws SceneError naming the culprit), analyses the effects and
     /// builds the acceleration data (the BVH when there are enough bounded shapes).
     void finalize();

@@ -349,23 +349,20 @@ private:
     }
 
     /// An emission spectrum, or {"texture": NAME, "scale": S}: then `texture` is set and the
-    /// result is the texture's envelope (the light's power for light selection).
+    /// result is the texture's mean over its (u, v) square (the light's power for light
+    /// selection: Scene::light_textures).
     Spectrum emission_value(const JsonValue& x, const std::string& what, int& texture) {
         if (!TextureParser::is_binding(x)) return spectrum(x, what + " emission", SpectrumUse::Emission);
         texture = m_textures.bind(x, what + " emission", TextureUse::emission);
-        return m_textures.envelope(texture);
+        return m_textures.mean(texture);
     }
 
-    /// Makes the emitter of a shape; a textured one records its texture, which needs surface
-    /// coordinates on the light.
+    /// Makes the emitter of a shape; a textured one records its texture, read at the surface
+    /// coordinates of the light's points.
     template <typename MakeEmitter>
-    int emitter(const MakeEmitter& make_emitter, const Spectrum& le, int texture, const JsonValue& at,
-                const std::string& what) {
+    int emitter(const MakeEmitter& make_emitter, const Spectrum& le, int texture) {
         const int light = make_emitter(le);
         if (texture < 0) return light;
-        if (std::holds_alternative<TriangleMeshLight>(m_scene.lights[static_cast<std::size_t>(light)]))
-            fail(at.pos(), what + " has a textured emission, which triangles and meshes do not support yet; expected "
-                                  "a sphere, quad, plane, disk, cylinder or cone");
         m_scene.light_textures.resize(m_scene.lights.size(), -1);
         m_scene.light_textures[static_cast<std::size_t>(light)] = texture;
         return light;
@@ -410,7 +407,7 @@ private:
             surface.material = add_material(std::move(m), emission->pos());
             m_material_emission.emplace_back();
             m_material_emission_texture.push_back(-1);
-            if (!le.is_zero()) surface.light = emitter(make_emitter, le, texture, *emission, what);
+            if (!le.is_zero()) surface.light = emitter(make_emitter, le, texture);
             return surface;
         }
         if (!name && (v.find("interior") || v.find("exterior"))) {
@@ -423,7 +420,7 @@ private:
             surface.material = it->second;
             const Spectrum& le = m_material_emission[static_cast<std::size_t>(it->second)];
             const int texture = m_material_emission_texture[static_cast<std::size_t>(it->second)];
-            if (!le.is_zero()) surface.light = emitter(make_emitter, le, texture, v, what);
+            if (!le.is_zero()) surface.light = emitter(make_emitter, le, texture);
             return surface;
         }
         std::vector<std::string> known;

@@ -1,5 +1,6 @@
-// Texture look-ups at hits and on lights. Out of line and called only from the textured
-// instances of the integrators, so scenes without textures never reach this code.
+// Texture look-ups at hits and on lights, and the tangent of anisotropic BSDFs. Out of line
+// and called only from the textured instances of the integrators, so scenes without textures
+// never reach this code.
 #include <array>
 
 #include "scene/scene.h"
@@ -25,9 +26,13 @@ SampledSpectrum sample_bins(std::span<const float> bins, const SampledWavelength
     return s;
 }
 
-/// Surface coordinates of a point on an area light, as the light's shape defines them.
-void light_point_uv(const Light& light, const Vec3& p, float& u, float& v) {
+/// Surface coordinates of a point on an area light, as the light's shape defines them (on
+/// a mesh light, on its triangle `triangle`).
+void light_point_uv(const Scene& scene, const Light& light, const Vec3& p, std::uint32_t triangle, float& u,
+                    float& v) {
     u = v = 0.f;
+    if (const TriangleMeshLight* m = std::get_if<TriangleMeshLight>(&light))
+        return scene.triangle_uv(m->triangles[triangle], p, u, v);
     if (const SphereLight* s = std::get_if<SphereLight>(&light)) return s->sphere.uv(p, u, v);
     if (const PlaneLight* pl = std::get_if<PlaneLight>(&light)) return pl->plane.uv(p, u, v);
     if (const QuadricLight* q = std::get_if<QuadricLight>(&light))
@@ -64,6 +69,7 @@ const Bsdf& Scene::textured_bsdf(const Hit& hit, Bsdf& scratch) const {
         if (b.parameter->spectrum) b.parameter->spectrum(scratch)->assign_bins(out);
         else *b.parameter->number(scratch) = out[0];
     }
+    if (ConductorBsdf* c = std::get_if<ConductorBsdf>(&scratch); c && c->anisotropic()) c->tangent = surface_tangent(hit);
     return scratch;
 }
 
@@ -76,9 +82,10 @@ SampledSpectrum Scene::emitted_textured(const Hit& hit, const SampledWavelengths
                             v, lambda);
 }
 
-SampledSpectrum Scene::light_point_emission(int index, const Vec3& p, const SampledWavelengths& lambda) const {
+SampledSpectrum Scene::light_point_emission(int index, const Vec3& p, std::uint32_t triangle,
+                                            const SampledWavelengths& lambda) const {
     float u, v;
-    light_point_uv(lights[static_cast<std::size_t>(index)], p, u, v);
+    light_point_uv(*this, lights[static_cast<std::size_t>(index)], p, triangle, u, v);
     return texture_spectrum(textures[static_cast<std::size_t>(light_textures[static_cast<std::size_t>(index)])], u, v,
                             lambda);
 }

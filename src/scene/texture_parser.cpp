@@ -213,14 +213,35 @@ Spectrum TextureParser::envelope(int texture) const {
         const std::span<const float> v = t.entry(e);
         for (std::size_t b = 0; b < hi.size(); ++b) hi[b] = std::max(hi[b], v[b]);
     }
+    return spectrum_of_bins(std::move(hi));
+}
+
+Spectrum TextureParser::mean(int texture) const {
+    const Texture& t = m_scene.textures[static_cast<std::size_t>(texture)];
+    // Each entry's share of the (u, v) square: its texels' for an image; the checkerboard's
+    // two cells cover equal areas, and the gradient's mean over [0, 1] is its ends' mean.
+    std::vector<double> share(t.entry_count(), 1.0 / static_cast<double>(t.entry_count()));
+    if (const ImageTexture* img = std::get_if<ImageTexture>(&t.pattern)) {
+        std::fill(share.begin(), share.end(), 0.0);
+        for (const std::uint32_t e : img->texels) share[e] += 1.0 / static_cast<double>(img->texels.size());
+    }
+    std::vector<double> sum(static_cast<std::size_t>(t.bins), 0.0);
+    for (std::uint32_t e = 0; e < t.entry_count(); ++e) {
+        const std::span<const float> v = t.entry(e);
+        for (std::size_t b = 0; b < sum.size(); ++b) sum[b] += share[e] * v[b];
+    }
+    return spectrum_of_bins(std::vector<float>(sum.begin(), sum.end()));
+}
+
+Spectrum TextureParser::spectrum_of_bins(std::vector<float> bins) const {
     // A source through the bin centres (for the checks that read the exact source), and the
     // bins themselves (for the look-up and the flags).
     std::vector<std::pair<double, double>> points;
-    const double width = double(Spectrum::kBinMax - Spectrum::kBinMin) / t.bins;
-    for (std::size_t b = 0; b < hi.size(); ++b) points.emplace_back(Spectrum::kBinMin + (b + 0.5) * width, hi[b]);
-    if (points.size() == 1) points.emplace_back(Spectrum::kBinMax, hi[0]);
+    const double width = double(Spectrum::kBinMax - Spectrum::kBinMin) / static_cast<double>(bins.size());
+    for (std::size_t b = 0; b < bins.size(); ++b) points.emplace_back(Spectrum::kBinMin + (b + 0.5) * width, bins[b]);
+    if (points.size() == 1) points.emplace_back(Spectrum::kBinMax, bins[0]);
     Spectrum s(SpectrumSource::piecewise_linear(std::move(points)), m_resolution);
-    s.assign_bins(hi);
+    s.assign_bins(bins);
     return s;
 }
 

@@ -37,6 +37,9 @@ public:
     /// Each bin's largest value over the texture's entries, as a spectrum: what a textured
     /// parameter holds at load time (see Material::textures).
     Spectrum envelope(int texture) const;
+    /// The mean of a spectral texture over its (u, v) square (an image's texels, a
+    /// procedural texture's area): an emitter's power for light selection.
+    Spectrum mean(int texture) const;
     /// The largest number a float texture gives.
     float max_number(int texture) const;
 
@@ -49,6 +52,8 @@ private:
     std::map<std::tuple<std::string, TextureUse, double>, int> m_built;
 
     int bins(TextureUse use) const;
+    /// A spectrum whose bins are `bins` (any count; the source interpolates the bin centres).
+    Spectrum spectrum_of_bins(std::vector<float> bins) const;
     Texture build(const std::string& name, const JsonValue& def, TextureUse use, double scale) const;
     /// The value table entry of a procedural texture's value `v` (a spectrum or a number).
     void add_value(Texture& t, const JsonValue& v, const std::string& what, TextureUse use, double scale) const;

@@ -23,40 +23,14 @@ float coat_pdf(const GgxDistribution& ggx, const Vec3& o, const Vec3& i) {
     return ggx.visible_pdf(o, m) / (4.f * om);
 }
 
-/// Directional albedo of the coat's specular lobe at cos θo = mu.
-double coat_albedo(const GgxDistribution& ggx, float eta, float mu) {
-    mu = std::max(mu, 1e-4f);
-    if (ggx.is_smooth()) return fresnel_dielectric(mu, eta);
-    const Vec3 o{std::sqrt(std::max(0.f, 1.f - mu * mu)), 0.f, mu};
-    constexpr int kSide = 64;
-    double sum = 0;
-    for (int a = 0; a < kSide; ++a)
-        for (int b = 0; b < kSide; ++b) {
-            const Vec3 m = ggx.sample_visible_normal(o, (a + 0.5f) / kSide, (b + 0.5f) / kSide);
-            const float om = dot(o, m);
-            const Vec3 i = m * (2.f * om) - o;
-            if (!(i.z > 0.f) || !(om > 0.f)) continue;
-            sum += fresnel_dielectric(om, eta) * ggx.G2(o, i) / ggx.G1(o);
-        }
-    return sum / (kSide * kSide);
-}
-
 }  // namespace
 
-PlasticBsdf make_plastic(Spectrum kd, float eta, float alpha) {
+PlasticBsdf make_plastic(Spectrum kd, float eta, float alpha, bool textured_roughness) {
     PlasticBsdf p;
     p.eta = eta;
     p.ggx.alpha = alpha;
-    constexpr int N = PlasticBsdf::kAlbedoPoints;
-    for (int j = 0; j < N; ++j) p.coat_albedo[j] = static_cast<float>(coat_albedo(p.ggx, eta, float(j) / (N - 1)));
-    // E_avg = 2∫E(μ)μ dμ of the piecewise-linear E, exactly: on [a, b] with E from ea to eb,
-    // ∫μE dμ = h·(ea·(2a + b) + eb·(a + 2b))/6.
-    double avg = 0;
-    for (int j = 0; j + 1 < N; ++j) {
-        const double a = double(j) / (N - 1), b = double(j + 1) / (N - 1), h = b - a;
-        avg += 2.0 * h * (p.coat_albedo[j] * (2 * a + b) + p.coat_albedo[j + 1] * (a + 2 * b)) / 6.0;
-    }
-    p.coat_albedo_avg = static_cast<float>(avg);
+    if (textured_roughness) p.coat_table = &coat_albedo_table(eta);
+    else p.coat = make_coat_albedo(alpha, eta);
     double sum = 0;
     int count = 0;
     for (double l = Spectrum::kBinMin; l <= Spectrum::kBinMax; l += 1.0, ++count) sum += kd.eval(static_cast<float>(l));
@@ -71,7 +45,7 @@ SampledSpectrum PlasticBsdf::eval(const Vec3& wo, const Vec3& wi, const Vec3& n,
     const Vec3 o = f.to_local(wo), i = f.to_local(wi);
     if (!(o.z > 0.f) || !(i.z > 0.f)) return SampledSpectrum(0.f);
     const float diffuse = (1.f - coat_albedo_at(o.z)) * (1.f - coat_albedo_at(i.z)) /
-                          (kPi * (1.f - coat_albedo_avg)) * i.z;
+                          (kPi * (1.f - coat_albedo_average())) * i.z;
     SampledSpectrum r = kd.sample(lambda) * diffuse;
     if (!ggx.is_smooth()) r += SampledSpectrum(coat_eval(ggx, eta, o, i));
     return r;

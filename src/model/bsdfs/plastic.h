@@ -12,14 +12,14 @@
 // weighting per direction in favour of the averaged E), the colour shift of light bouncing
 // several times between base and coat (kd², kd³... terms), and absorption in the coat.
 //
-// E(μ) is tabulated at construction (make_plastic) on 64 cosines by a fixed 64×64 stratified
-// quadrature of the VNDF sampling estimator, linear in between; E_avg is the exact integral of
-// that interpolant, which is what makes the diffuse term integrate exactly.
+// E(μ) is tabulated at construction (make_plastic; coat_albedo.h): at the material's α, or,
+// when the roughness is a texture, over α too (a table shared by plastics of the same coat
+// index), read at the α of each hit.
 #pragma once
-#include <array>
 #include <optional>
 
 #include "model/bsdfs/bsdf_sample.h"
+#include "model/bsdfs/coat_albedo.h"
 #include "model/bsdfs/fresnel.h"
 #include "model/bsdfs/microfacet.h"
 #include "model/bsdfs/microfacet_lobe.h"
@@ -27,21 +27,18 @@
 namespace spt {
 
 struct PlasticBsdf {
-    static constexpr int kAlbedoPoints = 64;
-
     Spectrum kd;       ///< base reflectance in [0, 1]
     float eta = 1.5f;  ///< coat index (constant)
     GgxDistribution ggx;
-    std::array<float, kAlbedoPoints> coat_albedo{};  ///< E(μ) at μ = j/(kAlbedoPoints − 1)
-    float coat_albedo_avg = 0.f;                     ///< E_avg
-    float kd_mean = 0.f;                             ///< mean of kd over 380–780 nm, for the lobe choice
+    CoatAlbedo coat;   ///< E(μ) at ggx.alpha (a constant roughness)
+    /// A textured roughness: E over α, read at ggx.alpha (set at each hit); `coat` unused.
+    const CoatAlbedoTable* coat_table = nullptr;
+    float kd_mean = 0.f;  ///< mean of kd over 380–780 nm, for the lobe choice
 
-    /// E(μ) of the coat, linear between the tabulated cosines.
-    float coat_albedo_at(float mu) const {
-        const float x = std::clamp(mu, 0.f, 1.f) * (kAlbedoPoints - 1);
-        const int j = std::min(static_cast<int>(x), kAlbedoPoints - 2);
-        return lerp(x - static_cast<float>(j), coat_albedo[j], coat_albedo[j + 1]);
-    }
+    /// E(μ) of the coat at this BSDF's α.
+    float coat_albedo_at(float mu) const { return coat_table ? coat_table->at(ggx.alpha, mu) : coat.at(mu); }
+    /// E_avg of the coat at this BSDF's α.
+    float coat_albedo_average() const { return coat_table ? coat_table->average(ggx.alpha) : coat.average; }
 
     BsdfFlags flags() const {
         std::uint8_t f = BsdfFlags::reflection | BsdfFlags::non_delta;
@@ -65,7 +62,8 @@ struct PlasticBsdf {
     }
 };
 
-/// A plastic with its coat albedo table computed (kd in [0, 1], eta ≥ 1, alpha in [0, 1]).
-PlasticBsdf make_plastic(Spectrum kd, float eta, float alpha);
+/// A plastic with its coat albedo computed (kd in [0, 1], eta ≥ 1, alpha in [0, 1]); with
+/// textured_roughness, the table over α (coat_albedo_table), read at each hit's α.
+PlasticBsdf make_plastic(Spectrum kd, float eta, float alpha, bool textured_roughness = false);
 
 }  // namespace spt

@@ -1,5 +1,7 @@
 // What the light types answer with (the contract is in light.h).
 #pragma once
+#include <cstdint>
+
 #include "core/vec3.h"
 #include "spectral/sampled.h"
 
@@ -28,6 +30,9 @@ struct LightSample {
     /// A sphere of the scene that cannot occlude the point (the light's own sphere, when the
     /// point is on the side facing the reference point), or −1: the shadow ray may skip it.
     int unoccluding_sphere = -1;
+    /// The triangle of a mesh light the point is on (its index in the light's list, for an
+    /// emission texture's (u, v)); 0 for the other lights.
+    std::uint32_t triangle = 0;
 };
 
 /// A light subpath's origin (bidirectional integrators): the point, the first direction, the
@@ -46,6 +51,7 @@ struct LightOrigin {
     bool environment = false;  ///< the constant environment: p is on the disk, w the direction
     bool blocked = false;      ///< environment: an infinite plane cuts the ray upstream of p
     int light = -1;            ///< index in Scene::lights
+    std::uint32_t triangle = 0;  ///< as LightSample::triangle
 };
 
 /// Mean of a spectrum over 380–780 nm (41 samples): the "power" lights are chosen by.

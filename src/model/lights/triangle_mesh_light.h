@@ -36,13 +36,15 @@ struct TriangleMeshLight {
 
     float power() const { return 2.f * kPi * total_area * mean_over_visible(Le); }
 
-    /// A point uniform over the whole area (u1 picks the triangle and is reused inside it).
-    void sample_point(float u1, float u2, Vec3& p, Vec3& p_err, Vec3& n) const {
+    /// A point uniform over the whole area (u1 picks the triangle and is reused inside it);
+    /// `triangle` is the index of the one it is on.
+    void sample_point(float u1, float u2, Vec3& p, Vec3& p_err, Vec3& n, std::uint32_t& triangle) const {
         const auto it = std::upper_bound(cdf.begin(), cdf.end(), u1);
         const std::size_t k = std::min<std::size_t>(static_cast<std::size_t>(it - cdf.begin()), cdf.size() - 1);
         const float lo = k > 0 ? cdf[k - 1] : 0.f;
         const float u = std::clamp((u1 - lo) / std::max(cdf[k] - lo, 1e-30f), 0.f, 0x1.fffffep-1f);
         const Triangle& t = triangles[k];
+        triangle = static_cast<std::uint32_t>(k);
         const float su = std::sqrt(u);
         const float b0 = 1.f - su, b1 = u2 * su, b2 = 1.f - b0 - b1;
         p = t.p0 * b0 + t.p1 * b1 + t.p2 * b2;
@@ -53,7 +55,7 @@ struct TriangleMeshLight {
     std::optional<LightSample> sample_li(const LightSampleContext& ctx, const SampledWavelengths& lambda, float u1,
                                          float u2) const {
         LightSample ls;
-        sample_point(u1, u2, ls.p, ls.p_err, ls.n);
+        sample_point(u1, u2, ls.p, ls.p_err, ls.n, ls.triangle);
         ls.pdf = area_to_solid_angle(1.f / total_area, ctx.p, ls.p, ls.n);
         return finish_area_sample(ls, ctx.p, Le.sample(lambda));
     }
@@ -65,7 +67,7 @@ struct TriangleMeshLight {
     std::optional<LightOrigin> sample_le(const SampledWavelengths& lambda, float u1, float u2, float u_side,
                                          float u3, float u4) const {
         LightOrigin o;
-        sample_point(u1, u2, o.p, o.p_err, o.n);
+        sample_point(u1, u2, o.p, o.p_err, o.n, o.triangle);
         o.pdf_pos = 1.f / total_area;
         return emit_two_sided(o, Le.sample(lambda), u_side, u3, u4);
     }

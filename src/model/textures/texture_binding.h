@@ -54,6 +54,8 @@ inline const std::vector<TexturableParameter>& texturable_parameters() {
          &nested_float_member<ConductorBsdf, GgxDistribution, &ConductorBsdf::ggx, &GgxDistribution::alpha>},
         {bsdf_index<DielectricBsdf>(), "roughness", nullptr,
          &nested_float_member<DielectricBsdf, GgxDistribution, &DielectricBsdf::ggx, &GgxDistribution::alpha>},
+        {bsdf_index<PlasticBsdf>(), "roughness", nullptr,
+         &nested_float_member<PlasticBsdf, GgxDistribution, &PlasticBsdf::ggx, &GgxDistribution::alpha>},
         {bsdf_index<ConductorBsdf>(), "film thickness_nm", nullptr,
          &nested_float_member<ConductorBsdf, ThinFilm, &ConductorBsdf::film, &ThinFilm::thickness_nm>},
         {bsdf_index<DielectricBsdf>(), "film thickness_nm", nullptr,
