@@ -1,6 +1,7 @@
 // Command line first, then the scene file, then the defaults of IntegratorSettings.
 #include "cli/integrator_choice.h"
 
+#include <algorithm>
 
 namespace spt {
 
@@ -24,10 +25,17 @@ IntegratorChoice choose_integrator(const Options& options, const Scene& scene) {
     // Effects an integrator cannot render: a usage error, never a wrong image.
     const char* feature = nullptr;
     const char* instead = "--integrator path";
-    // bdpt's media (bdpt_media.h) still disagree with the path tracer where paths cross a
-    // shape without a surface into a scattering medium (tests/test_bdpt_media.cpp): refused
-    // until that is found, as by vcm (no volume merging).
-    if (s.kind != IntegratorKind::path && scene.effects.media) feature = "participating media";
+    // bdpt renders homogeneous media (bdpt_media.h); grid and height fog would need delta
+    // tracking's distance densities for its MIS weights, which have no closed form. vcm has
+    // no volume merging.
+    const bool heterogeneous = std::any_of(scene.media.begin(), scene.media.end(),
+                                           [](const Medium& m) { return !m.is_uniform(); });
+    if (s.kind == IntegratorKind::bdpt && heterogeneous) {
+        feature = "heterogeneous media (grid, height fog)";
+    } else if (s.kind == IntegratorKind::vcm && scene.effects.media) {
+        feature = "participating media";
+        instead = heterogeneous ? "--integrator path" : "--integrator bdpt or path";
+    }
     if (!feature && s.kind == IntegratorKind::vcm && scene.effects.motion_blur) {
         // Its merges join light subpaths of a whole pass, each at its own shutter time.
         feature = "motion blur";

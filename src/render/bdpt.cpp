@@ -124,6 +124,11 @@ private:
     MergeSideSum camera_merge_sum(int t) const;
     float other_strategies(int s, int t, int camera_stop) const;
     bool visible(const Vertex& a, const Vertex& b);
+    /// Scenes with media: the medium a ray leaving scattering vertex v along w travels in:
+    /// a medium vertex's own; at a surface, the one the subpath arrived in on wo's side and
+    /// the shape's declared one behind it (as the path tracer tracks media: a shape standing
+    /// in a medium without naming its exterior reflects back into that medium).
+    int medium_towards(const Vertex& v, const Vec3& w) const;
     /// Scenes with media: the transmittance from scattering vertex a to b (0 if blocked).
     Transmittance transmittance(const Vertex& a, const Vertex& b);
     SampledSpectrum f_cos(const Vertex& v, const Vec3& wi, const SampledWavelengths& lambda, Transport mode) const;
@@ -167,19 +172,22 @@ void Bdpt::random_walk(Ray ray, SampledSpectrum beta, float pdf_dir, int max_ver
     };
     while (static_cast<int>(path.size()) < max_vertices) {
         std::optional<Hit> hit;
-        float edge_T = 1.f;  // the hero's transmittance up to hit
+        float edge_T = 1.f;      // the hero's transmittance up to hit
+        int medium_at_hit = -1;  // the medium the ray met the hit in
         if (m_media) {
             const FreeFlight flight = free_flight(m_scene, ray, medium, lambda, m_rng, m_stats);
             if (flight.chromatic) lambda.terminate_secondary();
             beta *= flight.weight;
             if (beta.is_zero()) break;
             if (flight.scattered) {
+                medium = flight.medium;  // the walk goes on from there
                 if (!scatter_in_medium(flight, beta, lambda, max_vertices, path, ray, pdf_fwd) || !survives_roulette())
                     break;
                 continue;
             }
             hit = flight.hit;
             edge_T = flight.T_hero;
+            medium_at_hit = flight.medium;
         } else {
             ++m_stats.rays;
             hit = m_scene.intersect(ray, m_time);
@@ -205,6 +213,7 @@ void Bdpt::random_walk(Ray ray, SampledSpectrum beta, float pdf_dir, int max_ver
         v.beta = beta;
         v.terminated = lambda.secondary_terminated();
         v.edge_T = edge_T;
+        if (m_media) v.medium = medium_at_hit;
         v.pdf_fwd = convert_density(pdf_fwd, path.back(), v) * edge_T;
         path.push_back(v);
         const Material& mat = m_scene.materials[hit->material];
@@ -231,7 +240,7 @@ void Bdpt::random_walk(Ray ray, SampledSpectrum beta, float pdf_dir, int max_ver
         if (mode == Transport::importance) beta *= shading_correction(cur.hit, cur.wo, bs->wi);
         prev.pdf_rev = convert_density(pdf_rev, cur, prev) * cur.edge_T;
         ray = spawn_ray(cur.hit, bs->wi);
-        if (m_media) medium = m_scene.medium_interface(cur.hit.prim).after(cur.hit.n, bs->wi);
+        if (m_media) medium = medium_towards(cur, bs->wi);
         if (!survives_roulette()) break;
     }
 }
@@ -302,6 +311,9 @@ float Bdpt::pdf(const Vertex& v, const Vertex* prev, const Vertex& next) const {
 /// environment that its disk cannot reach (environment_position_pdf 0) is a true zero: no
 /// strategy whose light subpath includes it exists, and the walk stops before it.
 float Bdpt::mis_weight(int s, int t, float t_conn) {
+    const IntegratorSettings& only = m_ctx.settings;
+    if (only.bdpt_only_s >= 0 || only.bdpt_only_t >= 0)  // one strategy class alone (tests)
+        return s == only.bdpt_only_s || t == only.bdpt_only_t || (s == 0 && t == 2) ? 1.f : 0.f;
     if (s + t == 2) return 1.f;
     Vertex* qs = s > 0 ? &m_light[s - 1] : nullptr;
     Vertex* pt = &m_camera[t - 1];
@@ -423,13 +435,17 @@ bool Bdpt::visible(const Vertex& a, const Vertex& b) {
     return !m_scene.occluded(ray, -1, m_time);
 }
 
+int Bdpt::medium_towards(const Vertex& v, const Vec3& w) const {
+    if (v.type == VertexType::medium) return v.medium;
+    const Vec3& n = v.hit.n;
+    return dot(w, n) * dot(v.wo, n) < 0.f ? m_scene.medium_interface(v.hit.prim).after(n, w) : v.medium;
+}
+
 Transmittance Bdpt::transmittance(const Vertex& a, const Vertex& b) {
     const Ray ray = b.infinite ? spawn_ray(a.hit, b.dir)
                                : spawn_ray_between(a.p(), a.hit.p_err, a.hit.n, b.p(), b.hit.p_err, b.hit.n);
     if (!(ray.t_max > 0.f)) return {SampledSpectrum(0.f), false};
-    const int medium = a.type == VertexType::medium ? a.medium
-                                                     : m_scene.medium_interface(a.hit.prim).after(a.hit.n, ray.d);
-    return connection_transmittance(m_scene, ray, medium, m_lambda, m_stats);
+    return connection_transmittance(m_scene, ray, medium_towards(a, ray.d), m_lambda, m_stats);
 }
 
 int Bdpt::max_depth() const {

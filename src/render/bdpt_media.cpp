@@ -2,15 +2,9 @@
 #include "render/bdpt_media.h"
 
 #include "render/medium_tracking.h"
+#include "render/surfaceless_crossing.h"
 
 namespace spt {
-
-namespace {
-
-/// Rays cross at most this many surfaceless shapes in a row (as volumetric_path.cpp).
-constexpr int kMaxCrossings = 256;
-
-}  // namespace
 
 bool is_chromatic(const SampledSpectrum& sigma_t, const SampledWavelengths& lambda) {
     if (lambda.secondary_terminated()) return false;
@@ -54,16 +48,12 @@ FreeFlight free_flight(const Scene& scene, Ray ray, int medium, const SampledWav
             f.T_hero *= T[0];
         }
         if (!f.hit || f.hit->material != scene.interface_material) return f;
-        if (crossings == kMaxCrossings) {
+        if (crossings == kMaxSurfacelessCrossings) {
             f.hit.reset();
             f.weight = SampledSpectrum(0.f);
             return f;
         }
-        // A shape without a surface: on into the medium behind it.
-        medium = scene.medium_interface(f.hit->prim).after(f.hit->n, ray.d);
-        const float t_left = ray.t_max - f.hit->t;
-        ray = spawn_ray(*f.hit, ray.d);
-        ray.t_max = t_left;
+        medium = cross_surfaceless(scene, *f.hit, ray);
     }
 }
 
@@ -73,7 +63,7 @@ Transmittance connection_transmittance(const Scene& scene, Ray ray, int medium, 
     for (int crossings = 0;; ++crossings) {
         ++stats.rays;
         const std::optional<Hit> hit = scene.intersect(ray);
-        if ((hit && hit->material != scene.interface_material) || crossings == kMaxCrossings) {
+        if ((hit && hit->material != scene.interface_material) || crossings == kMaxSurfacelessCrossings) {
             r.T = SampledSpectrum(0.f);
             return r;
         }
@@ -85,10 +75,7 @@ Transmittance connection_transmittance(const Scene& scene, Ray ray, int medium, 
             r.T *= majorant_transmittance(sa + ss, t_end);
         }
         if (!hit) return r;
-        medium = scene.medium_interface(hit->prim).after(hit->n, ray.d);
-        const float t_left = ray.t_max - hit->t;
-        ray = spawn_ray(*hit, ray.d);
-        ray.t_max = t_left;
+        medium = cross_surfaceless(scene, *hit, ray);
     }
 }
 
@@ -98,14 +85,15 @@ int medium_at(const Scene& scene, const Vec3& eye, const Vec3& p, PathStats& sta
     const float dist = length(d);
     if (!(dist > 0.f)) return medium;
     Ray ray{eye, d / dist, dist};
-    for (int crossings = 0; crossings < kMaxCrossings; ++crossings) {
+    for (int crossings = 0; crossings < kMaxSurfacelessCrossings; ++crossings) {
         ++stats.rays;
         const std::optional<Hit> hit = scene.intersect(ray);
         if (!hit) break;
-        medium = scene.medium_interface(hit->prim).after(hit->n, ray.d);
-        const float t_left = ray.t_max - hit->t;
-        ray = spawn_ray(*hit, ray.d);
-        ray.t_max = t_left;
+        // Only shapes without a surface bound media; a surface in the way (opaque or glass)
+        // may stand in a medium without naming it as its exterior (then vacuum).
+        const bool surfaceless = hit->material == scene.interface_material;
+        const int behind = cross_surfaceless(scene, *hit, ray);
+        if (surfaceless) medium = behind;
     }
     return medium;
 }

@@ -1,7 +1,10 @@
 // Participating media for bidirectional path tracing (bdpt.h): free flight along a subpath's
 // rays and transmittance along its connections, through homogeneous media and the shapes
 // that only bound them (no surface), tracking the medium as the path tracer does
-// (volumetric_path.h). Heterogeneous media are refused (integrator_choice.cpp).
+// (volumetric_path.h; the crossing step is surfaceless_crossing.h's): a subpath goes on in
+// the medium it scattered in, and at a surface it reflects back into the medium it arrived
+// in. Heterogeneous media are refused (integrator_choice.cpp): delta tracking's distance
+// densities, which the MIS weights need, have no closed form.
 //
 // Densities (for the MIS weights): a scattering point at distance t of a segment through a
 // homogeneous medium is drawn with the hero's density σt(λ0)·T(λ0, t) (per unit length), a
@@ -51,8 +54,11 @@ struct Transmittance {
 Transmittance connection_transmittance(const Scene& scene, Ray ray, int medium, const SampledWavelengths& lambda,
                                        PathStats& stats);
 
-/// The medium at `p`, tracked along the straight line from the camera's origin `eye` (in
-/// the camera's medium) through every shape between (the light subpath's first medium).
+/// The medium at `p` (a light subpath's first medium), tracked along the straight line from
+/// the camera's origin `eye` (in the camera's medium) through the shapes without a surface
+/// between. Only those bound media: a surface on the line (opaque, glass) may stand in a
+/// medium without naming it as its exterior, so its declared sides are not taken (a light
+/// inside a closed surface holding a medium is thus taken to be in the medium around it).
 int medium_at(const Scene& scene, const Vec3& eye, const Vec3& p, PathStats& stats);
 
 /// Whether σt differs between the path's wavelengths (of those it still carries).

@@ -29,8 +29,9 @@ struct BdptVertex {
     /// vertex, relative to the strategy that ends the subpath here (Bdpt::prefix_sums).
     float mis_sum = 0.f;
     /// Media (bdpt_media.h): the hero's transmittance of the segment from the previous vertex
-    /// of its subpath (a factor of both vertices' densities along it), and at a medium vertex
-    /// its medium and the hero's σt (its density factor in place of a surface's |cos|).
+    /// of its subpath (a factor of both vertices' densities along it); at a medium vertex
+    /// the hero's σt (its density factor in place of a surface's |cos|); the medium the
+    /// vertex is in (a surface vertex: the one its subpath arrived in).
     float edge_T = 1.f;
     float sigma_t = 0.f;
     int medium = -1;

@@ -36,6 +36,11 @@ struct IntegratorSettings {
     /// (vertex_merging.h) choose it. Pass k uses r·(k + 1)^(−1/8) (progressive photon
     /// mapping with α = 3/4: the bias vanishes as passes accumulate).
     float merge_radius = 0.f;
+    /// bdpt, for tests: only the strategies with this many light vertices (s) or camera
+    /// vertices (t), each with weight 1 (−1: every strategy, weighted by MIS). s = 0, s = 1
+    /// and t = 1 each estimate the whole image on their own (but the emitter seen directly,
+    /// s = 0 and t = 2, which is kept in every class), so a strategy that is wrong alone shows.
+    int bdpt_only_s = -1, bdpt_only_t = -1;
 };
 
 struct PathStats {

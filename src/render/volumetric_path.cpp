@@ -7,14 +7,11 @@
 #include "model/bsdfs/bsdf.h"
 #include "render/light_context.h"
 #include "render/medium_tracking.h"
+#include "render/surfaceless_crossing.h"
 
 namespace spt {
 
 namespace {
-
-/// Rays cross at most this many surfaceless shapes in a row (a guard against a ray caught
-/// between coincident interfaces).
-constexpr int kMaxCrossings = 256;
 
 /// Mean of MIS ratios over the wavelengths the path still carries (only the hero after
 /// a dispersive refraction or in one-wavelength mode: its ratio is then the whole estimate).
@@ -107,7 +104,7 @@ SegmentTransmittance segment_transmittance(const Scene& scene, Ray ray, int medi
     for (int crossings = 0;; ++crossings) {
         ++stats.rays;
         const std::optional<Hit> hit = scene.intersect(ray);
-        if ((hit && hit->material != scene.interface_material) || crossings == kMaxCrossings) {
+        if ((hit && hit->material != scene.interface_material) || crossings == kMaxSurfacelessCrossings) {
             r.T = SampledSpectrum(0.f);
             return r;
         }
@@ -143,11 +140,7 @@ SegmentTransmittance segment_transmittance(const Scene& scene, Ray ray, int medi
             if (r.T.is_zero()) return r;
         }
         if (!hit) return r;
-        // A shape without a surface: on into the medium behind it.
-        medium = scene.medium_interface(hit->prim).after(hit->n, ray.d);
-        const float t_left = ray.t_max - hit->t;
-        ray = spawn_ray(*hit, ray.d);
-        ray.t_max = t_left;
+        medium = cross_surfaceless(scene, *hit, ray);
     }
 }
 
@@ -275,9 +268,8 @@ SegmentTransmittance segment_transmittance(const Scene& scene, Ray ray, int medi
         }
         // ---- A shape without a surface: straight on, into the medium behind it ----
         if (hit->material == scene.interface_material) {
-            if (++crossings == kMaxCrossings) break;
-            medium = scene.medium_interface(hit->prim).after(hit->n, ray.d);
-            ray = spawn_ray(*hit, ray.d);
+            if (++crossings == kMaxSurfacelessCrossings) break;
+            medium = cross_surfaceless(scene, *hit, ray);
             continue;
         }
         crossings = 0;
