@@ -328,11 +328,14 @@ TEST(TextureRender, EveryIntegratorRendersTheTexturedScene) {
     std::filesystem::remove_all(dir);
 }
 
-/// A floor quad of material "m" lit by an emitting sphere, seen from above.
-std::string lit_floor_scene(const std::string& textures, const std::string& kd) {
+/// A floor quad of material "m" lit by an emitting sphere, seen from above; `material` has
+/// KD where its kd goes.
+std::string lit_floor_scene(const std::string& textures, const std::string& kd,
+                            std::string material = R"({"kd": KD, "ks": 0.05})") {
+    material.replace(material.find("KD"), 2, kd);
     return R"({"camera": {"position": [0, 2, 3], "look_at": [0, 0, 0]},
       "textures": {)" + textures + R"(},
-      "materials": {"m": {"kd": )" + kd + R"(, "ks": 0.05}},
+      "materials": {"m": )" + material + R"(},
       "shapes": [{"type": "quad", "origin": [-2, 0, 2], "edge1": [4, 0, 0], "edge2": [0, 0, -4], "material": "m"},
         {"type": "sphere", "center": [0.3, 1.2, 0], "radius": 0.3, "emission": 5},
         {"type": "sphere", "center": [-0.5, 0.3, 0.2], "radius": 0.3, "material": "m"}]})";
@@ -350,12 +353,16 @@ TEST(TextureRender, AnImageOfOneColourRendersAsThatConstant) {
         display = "c.pfm";
         return true;
     };
-    const Scene textured = load_scene_text(lit_floor_scene(R"("c": {"type": "image", "file": "c.pfm"})", R"({"texture": "c"})"),
-                                           "a.json", "a", {}, reader);
-    const Scene constant = load_scene_text(lit_floor_scene("", "[0.5, 0.375, 0.25]"), "b.json", "b", {}, reader);
-    ASSERT_TRUE(textured.effects.textures);
-    ASSERT_FALSE(constant.effects.textures);
+    // The kd of the lobe mix and of the plastic (whose lobe choice reads the texture's envelope).
+    for (const char* material : {R"({"kd": KD, "ks": 0.05})", R"({"type": "plastic", "kd": KD, "roughness": 0.2})"})
     for (const IntegratorKind kind : {IntegratorKind::path, IntegratorKind::bdpt, IntegratorKind::vcm}) {
+        const Scene textured = load_scene_text(
+            lit_floor_scene(R"("c": {"type": "image", "file": "c.pfm"})", R"({"texture": "c"})", material), "a.json", "a",
+            {}, reader);
+        const Scene constant =
+            load_scene_text(lit_floor_scene("", "[0.5, 0.375, 0.25]", material), "b.json", "b", {}, reader);
+        ASSERT_TRUE(textured.effects.textures);
+        ASSERT_FALSE(constant.effects.textures);
         RenderSettings settings = test::small_settings(24, 16, 8);
         settings.integrator.kind = kind;
         const auto a = test::render_film(textured, settings), b = test::render_film(constant, settings);
@@ -370,7 +377,7 @@ TEST(TextureRender, AnImageOfOneColourRendersAsThatConstant) {
         // Bit-identical: the textured code reads the same bins (the one entry's weight is
         // exactly 1), draws the same random numbers and does the same arithmetic (no FMA
         // contraction: -ffp-contract=off), so every pixel is the same double.
-        EXPECT_EQ(identical, 24 * 16) << integrator_name(kind) << ": largest difference " << worst;
+        EXPECT_EQ(identical, 24 * 16) << material << ", " << integrator_name(kind) << ": largest difference " << worst;
         EXPECT_GT(test::image_mean_y(*b).mean, 0.01);  // the comparison is not between two black images
     }
 }

@@ -15,10 +15,10 @@ namespace spt {
 /// sample (pixel position, wavelength, lens, time) from it and the rest from its PCG stream.
 enum class SamplerKind { independent, sobol };
 
-/// The default: Sobol has the lower error at equal samples on cornell, cornell-point and
-/// cornell-sphere (1.1x to 2x at 16, 64 and 256 spp; validation/results/sampler_convergence.md),
-/// but on cornell it takes 1.57x the time per path (256x256x128, 1 thread, min of 5
-/// interleaved), so at equal time the independent sampler still wins there.
+/// The default: Sobol has the lower error at equal samples on cornell and cornell-point (1.35x
+/// to 1.62x at 16, 64 and 256 spp; validation/results/sampler_convergence.md) but not at every
+/// count on cornell-sphere, and on cornell it takes 1.21x the time per path (256x256x128,
+/// 1 thread, min of 5 interleaved): 1.17x the efficiency there, below 1 on cornell-sphere.
 inline constexpr SamplerKind kDefaultSampler = SamplerKind::independent;
 
 constexpr const char* sampler_name(SamplerKind kind) {

@@ -21,12 +21,4 @@ inline int cross_surfaceless(const Scene& scene, const Hit& hit, Ray& ray) {
     return medium;
 }
 
-/// The medium a ray travels in before it meets `hit`, as the shape hit declares it: the side
-/// of the shape the ray arrives from. A light subpath starts in it (bdpt_media.h): the
-/// medium a shadow ray from that shape towards the light ends in, so the light's medium is
-/// the path tracer's along every direction.
-inline int medium_before(const Scene& scene, const Hit& hit, const Vec3& d) {
-    return scene.medium_interface(hit.prim).after(hit.n, -d);
-}
-
 }  // namespace spt

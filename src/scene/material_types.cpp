@@ -112,9 +112,11 @@ DielectricBsdf dielectric(const SpectrumParser& p, const JsonValue& def, const s
 }
 
 PlasticBsdf plastic(const SpectrumParser& p, const JsonValue& def, const std::string& what,
-                    const FloatParameter& number) {
+                    const FloatParameter& number, const ReflectanceParameter& reflectance) {
     p.check_keys(def, what, {"type", "kd", "ior", "roughness", "emission"});
-    Spectrum kd = p.spectrum(p.required(def, "kd", what), what + " kd", SpectrumUse::Reflectance);
+    // A textured kd: the lobe choice reads the mean of its envelope (make_plastic), the same
+    // number in sampling and pdf, so the estimator stays unbiased.
+    Spectrum kd = reflectance(p.required(def, "kd", what), "kd");
     float eta = 1.5f;
     if (const JsonValue* v = def.find("ior")) {
         const Spectrum s = p.spectrum(*v, what + " ior", SpectrumUse::Index);
@@ -165,12 +167,13 @@ bool is_microfacet_material_type(const std::string& type) {
 }
 
 Bsdf parse_microfacet_material(const SpectrumParser& spectra, const JsonValue& def, const std::string& type,
-                               const std::string& what, const FloatParameter& number) {
+                               const std::string& what, const FloatParameter& number,
+                               const ReflectanceParameter& reflectance) {
     const std::string w = what + " of type " + quote_text(type);
     reject_anisotropy(spectra, def, type, w);  // before the key check, which would only call it unknown
     if (type == "conductor") return conductor(spectra, def, w, number);
     if (type == "dielectric") return dielectric(spectra, def, w, number);
-    if (type == "plastic") return plastic(spectra, def, w, number);
+    if (type == "plastic") return plastic(spectra, def, w, number, reflectance);
     return thin_sheet(spectra, def, w, number);
 }
 

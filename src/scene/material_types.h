@@ -24,11 +24,17 @@ bool is_microfacet_material_type(const std::string& type);
 using FloatParameter = std::function<float(const JsonValue& v, const std::string& key, const std::string& what,
                                            double lo, double hi, bool lo_open)>;
 
+/// Reads the reflectance spectrum `v` at `key` of the material ("kd"). The loader's accepts
+/// {"texture": NAME} too: it records the binding and returns the texture's envelope.
+using ReflectanceParameter = std::function<Spectrum(const JsonValue& v, const char* key)>;
+
 /// The BSDF of material `def` (an object with "type" = one of the types above; `what` names
-/// it in messages), its float parameters read through `number`. Keys "emission" and "type"
-/// are allowed and left to the caller. Throws LocatedError.
+/// it in messages), its float parameters read through `number` and its reflectances through
+/// `reflectance`. Keys "emission" and "type" are allowed and left to the caller. Throws
+/// LocatedError.
 Bsdf parse_microfacet_material(const SpectrumParser& spectra, const JsonValue& def, const std::string& type,
-                               const std::string& what, const FloatParameter& number);
+                               const std::string& what, const FloatParameter& number,
+                               const ReflectanceParameter& reflectance);
 
 /// Checks the parameters of the types above (ranges at every wavelength); throws SceneError.
 void validate_surface_model(const Bsdf& bsdf, const std::string& who);

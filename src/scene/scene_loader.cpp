@@ -303,7 +303,7 @@ private:
                 if (!b.has_mirror() && !b.has_transmission()) m.bsdf = DiffuseBsdf{std::move(b.kd)};
                 else m.bsdf = std::move(b);
             } else if (is_microfacet_material_type(type)) {
-                m.bsdf = parse_microfacet_material(m_spectra, def, type, what, float_parameter(bound));
+                m.bsdf = parse_microfacet_material(m_spectra, def, type, what, float_parameter(bound), reflectance);
             } else {
                 const std::vector<std::string> types = {"diffuse", "lobes", "conductor", "dielectric", "plastic",
                                                         "thin_sheet"};

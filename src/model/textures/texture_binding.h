@@ -54,6 +54,7 @@ inline const std::vector<TexturableParameter>& texturable_parameters() {
          &nested_float_member<ConductorBsdf, GgxDistribution, &ConductorBsdf::ggx, &GgxDistribution::alpha>},
         {bsdf_index<DielectricBsdf>(), "roughness", nullptr,
          &nested_float_member<DielectricBsdf, GgxDistribution, &DielectricBsdf::ggx, &GgxDistribution::alpha>},
+        {bsdf_index<PlasticBsdf>(), "kd", &spectrum_member<PlasticBsdf, &PlasticBsdf::kd>, nullptr},
         {bsdf_index<PlasticBsdf>(), "roughness", nullptr,
          &nested_float_member<PlasticBsdf, GgxDistribution, &PlasticBsdf::ggx, &GgxDistribution::alpha>},
         {bsdf_index<ConductorBsdf>(), "film thickness_nm", nullptr,
