@@ -279,32 +279,32 @@ TEST(AnisotropicGgx, EqualAlphasAreTheIsotropicDistribution) {
     }
 }
 
+/// ∫ f(m) dω over the upper hemisphere, on a grid in (1 − cos θ)^½ and φ (fine at grazing).
+template <typename F>
+double hemisphere_integral(const F& f) {
+    constexpr int kC = 4000, kP = 512;
+    double sum = 0;
+    for (int i = 0; i < kC; ++i)
+        for (int j = 0; j < kP; ++j) {
+            const double a = (i + 0.5) / kC, c = 1 - a * a, phi = 2 * kPiD * (j + 0.5) / kP;
+            const double s = std::sqrt(1 - c * c);
+            const Vec3 m{float(s * std::cos(phi)), float(s * std::sin(phi)), float(c)};
+            sum += f(m, c) * (2 * a / kC) * (2 * kPiD / kP);
+        }
+    return sum;
+}
+
 TEST(AnisotropicGgx, DistributionAndVisibleNormalsAreNormalised) {
     for (const auto& [ax, ay] : {std::pair{0.05f, 0.3f}, {0.5f, 0.1f}, {0.2f, 0.8f}}) {
         const AnisotropicGgx g{ax, ay};
-        // ∫D cos θm dω and ∫visible_pdf dω on a grid in (1 − cos θ)^½ and φ.
-        constexpr int kC = 4000, kP = 512;
-        double sum_d = 0;
-        for (int i = 0; i < kC; ++i)
-            for (int j = 0; j < kP; ++j) {
-                const double a = (i + 0.5) / kC, c = 1 - a * a, phi = 2 * kPiD * (j + 0.5) / kP;
-                const double s = std::sqrt(1 - c * c);
-                const Vec3 m{float(s * std::cos(phi)), float(s * std::sin(phi)), float(c)};
-                sum_d += g.D(m) * c * (2 * a / kC) * (2 * kPiD / kP);
-            }
-        EXPECT_NEAR(sum_d, 1.0, 3e-3) << ax << " x " << ay;
+        // ∫D cos θm dω = 1 and ∫visible_pdf dω = 1.
+        EXPECT_NEAR(hemisphere_integral([&](const Vec3& m, double c) { return g.D(m) * c; }), 1.0, 3e-3)
+            << ax << " x " << ay;
         for (const double phi_o : {0.0, 0.9, 2.2}) {
             const double cos_o = 0.4, so = std::sqrt(1 - cos_o * cos_o);
             const Vec3 w{float(so * std::cos(phi_o)), float(so * std::sin(phi_o)), float(cos_o)};
-            double sum_v = 0;
-            for (int i = 0; i < kC; ++i)
-                for (int j = 0; j < kP; ++j) {
-                    const double a = (i + 0.5) / kC, c = 1 - a * a, phi = 2 * kPiD * (j + 0.5) / kP;
-                    const double s = std::sqrt(1 - c * c);
-                    const Vec3 m{float(s * std::cos(phi)), float(s * std::sin(phi)), float(c)};
-                    sum_v += g.visible_pdf(w, m) * (2 * a / kC) * (2 * kPiD / kP);
-                }
-            EXPECT_NEAR(sum_v, 1.0, 5e-3) << ax << " x " << ay << " φo " << phi_o;
+            EXPECT_NEAR(hemisphere_integral([&](const Vec3& m, double) { return g.visible_pdf(w, m); }), 1.0, 5e-3)
+                << ax << " x " << ay << " φo " << phi_o;
         }
     }
 }

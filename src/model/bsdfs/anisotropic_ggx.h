@@ -9,6 +9,7 @@
 #include "core/frame.h"
 #include "core/math.h"
 #include "core/vec3.h"
+#include "model/bsdfs/microfacet.h"
 
 namespace spt {
 
@@ -39,21 +40,9 @@ struct AnisotropicGgx {
         return G1(w) * wm * D(m) / w.z;
     }
 
-    /// A microfacet normal visible from w (w.z > 0), distributed as visible_pdf: stretch w by
-    /// (α_x, α_y) to the configuration of α = 1, sample the visible hemisphere there (a
-    /// projected disk, its far half squeezed), and unstretch the normal.
+    /// A microfacet normal visible from w (w.z > 0), distributed as visible_pdf.
     Vec3 sample_visible_normal(const Vec3& w, float u1, float u2) const {
-        const Vec3 vh = normalize(Vec3{alpha_x * w.x, alpha_y * w.y, w.z});
-        const float len2 = vh.x * vh.x + vh.y * vh.y;
-        const Vec3 t1 = len2 > 0.f ? Vec3{-vh.y, vh.x, 0.f} / std::sqrt(len2) : Vec3{1.f, 0.f, 0.f};
-        const Vec3 t2 = cross(vh, t1);
-        const float r = std::sqrt(u1), phi = 2.f * kPi * u2;
-        const float p1 = r * std::cos(phi);
-        float p2 = r * std::sin(phi);
-        const float s = 0.5f * (1.f + vh.z);
-        p2 = (1.f - s) * safe_sqrt(1.f - p1 * p1) + s * p2;
-        const Vec3 nh = t1 * p1 + t2 * p2 + vh * safe_sqrt(1.f - p1 * p1 - p2 * p2);
-        return normalize(Vec3{alpha_x * nh.x, alpha_y * nh.y, std::max(1e-7f, nh.z)});
+        return sample_ggx_visible_normal(w, alpha_x, alpha_y, u1, u2);
     }
 };
 

@@ -3,13 +3,31 @@
 // "Sampling the GGX distribution of visible normals"). Shared by every rough BSDF type.
 //
 // Directions are in the local frame of the macro-surface (z = the normal). α is the GGX
-// roughness (the slope scale: α = 0 is a mirror, α = 1 very rough); anisotropy would need a
-// tangent, which the BSDF interface does not carry.
+// roughness (the slope scale: α = 0 is a mirror, α = 1 very rough). The anisotropic lobe
+// (anisotropic_ggx.h) shares the visible-normal sampling below.
 #pragma once
 #include "core/math.h"
 #include "core/vec3.h"
 
 namespace spt {
+
+/// A GGX microfacet normal m (m.z ≥ 0) visible from w (w.z > 0) for roughness α_x along x and
+/// α_y along y, distributed as the distribution's visible_pdf (Heitz 2018): stretch w to the
+/// configuration of α = 1, sample the visible hemisphere there (a projected disk, its far half
+/// squeezed), and unstretch the normal. With α_x = α_y the isotropic lobe's sampling.
+inline Vec3 sample_ggx_visible_normal(const Vec3& w, float alpha_x, float alpha_y, float u1, float u2) {
+    const Vec3 vh = normalize(Vec3{alpha_x * w.x, alpha_y * w.y, w.z});
+    const float len2 = vh.x * vh.x + vh.y * vh.y;
+    const Vec3 t1 = len2 > 0.f ? Vec3{-vh.y, vh.x, 0.f} / std::sqrt(len2) : Vec3{1.f, 0.f, 0.f};
+    const Vec3 t2 = cross(vh, t1);
+    const float r = std::sqrt(u1), phi = 2.f * kPi * u2;
+    const float p1 = r * std::cos(phi);
+    float p2 = r * std::sin(phi);
+    const float s = 0.5f * (1.f + vh.z);
+    p2 = (1.f - s) * safe_sqrt(1.f - p1 * p1) + s * p2;
+    const Vec3 nh = t1 * p1 + t2 * p2 + vh * safe_sqrt(1.f - p1 * p1 - p2 * p2);
+    return normalize(Vec3{alpha_x * nh.x, alpha_y * nh.y, std::max(1e-7f, nh.z)});
+}
 
 struct GgxDistribution {
     float alpha = 0.f;
@@ -48,18 +66,7 @@ struct GgxDistribution {
 
     /// A microfacet normal m (m.z ≥ 0) visible from w (w.z > 0), distributed as visible_pdf.
     Vec3 sample_visible_normal(const Vec3& w, float u1, float u2) const {
-        // Stretch to the hemisphere configuration, sample a projected disk, unstretch.
-        const Vec3 vh = normalize(Vec3{alpha * w.x, alpha * w.y, w.z});
-        const float len2 = vh.x * vh.x + vh.y * vh.y;
-        const Vec3 t1 = len2 > 0.f ? Vec3{-vh.y, vh.x, 0.f} / std::sqrt(len2) : Vec3{1.f, 0.f, 0.f};
-        const Vec3 t2 = cross(vh, t1);
-        const float r = std::sqrt(u1), phi = 2.f * kPi * u2;
-        const float p1 = r * std::cos(phi);
-        float p2 = r * std::sin(phi);
-        const float s = 0.5f * (1.f + vh.z);
-        p2 = (1.f - s) * safe_sqrt(1.f - p1 * p1) + s * p2;
-        const Vec3 nh = t1 * p1 + t2 * p2 + vh * safe_sqrt(1.f - p1 * p1 - p2 * p2);
-        return normalize(Vec3{alpha * nh.x, alpha * nh.y, std::max(1e-7f, nh.z)});
+        return sample_ggx_visible_normal(w, alpha, alpha, u1, u2);
     }
 };
 
