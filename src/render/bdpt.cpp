@@ -54,16 +54,6 @@ float shading_correction(const Hit& hit, const Vec3& wo, const Vec3& wi) {
     return std::fabs(dot(wo, hit.ns)) * std::fabs(dot(wi, hit.n)) / den;
 }
 
-/// The BSDF at a surface hit: its material's, or for a textured material the material with
-/// each bound parameter read from its texture at the hit, as the path tracer takes it (made in
-/// this thread's scratch BSDF: valid until the next call on the thread).
-const Bsdf& bsdf_at(const Scene& scene, const Hit& hit) {
-    const Material& m = scene.materials[hit.material];
-    if (!m.textured) [[likely]] return m.bsdf;
-    thread_local Bsdf scratch;
-    return scene.textured_bsdf(hit, scratch);
-}
-
 /// Densities of delta events are stored as 0; in ratios they cancel, as 1.
 float remap0(float x) { return x != 0.f ? x : 1.f; }
 
@@ -220,7 +210,7 @@ void Bdpt::random_walk(Ray ray, SampledSpectrum beta, float pdf_dir, int max_ver
         if (!mat.reflects() || static_cast<int>(path.size()) == max_vertices) break;
 
         const float u_lobe = m_rng.uniform(), u1 = m_rng.uniform(), u2 = m_rng.uniform();
-        const Bsdf& bsdf = bsdf_at(m_scene, *hit);
+        const Bsdf& bsdf = m_scene.bsdf_at(*hit);
         const std::optional<BsdfSample> bs = bsdf_sample(bsdf, v.wo, hit->ns, lambda, u_lobe, u1, u2, mode);
         if (!bs) break;
         Vertex& cur = path.back();
@@ -278,7 +268,7 @@ bool Bdpt::scatter_in_medium(const FreeFlight& flight, const SampledSpectrum& be
 SampledSpectrum Bdpt::f_cos(const Vertex& v, const Vec3& wi, const SampledWavelengths& lambda, Transport mode) const {
     if (v.type == VertexType::medium)  // the phase function (σs is in the throughput)
         return SampledSpectrum(m_scene.media[static_cast<std::size_t>(v.medium)].phase.eval(v.wo, wi));
-    return bsdf_eval(bsdf_at(m_scene, v.hit), v.wo, wi, v.hit.ns, lambda, mode);
+    return bsdf_eval(m_scene.bsdf_at(v.hit), v.wo, wi, v.hit.ns, lambda, mode);
 }
 
 float Bdpt::light_direction_pdf(const Vertex& light, const Vertex& next) const {
@@ -302,7 +292,7 @@ float Bdpt::pdf(const Vertex& v, const Vertex* prev, const Vertex& next) const {
     const Vec3 wp = direction(v, *prev);
     if (v.type == VertexType::medium)
         return convert_density(m_scene.media[static_cast<std::size_t>(v.medium)].phase.eval(wp, wn), v, next);
-    return convert_density(bsdf_pdf(bsdf_at(m_scene, v.hit), wp, wn, v.hit.ns, m_hero), v, next);
+    return convert_density(bsdf_pdf(m_scene.bsdf_at(v.hit), wp, wn, v.hit.ns, m_hero), v, next);
 }
 
 /// Balance heuristic over all (s', t') with s' + t' = s + t, by walking the path with the
@@ -637,7 +627,7 @@ SampledSpectrum Bdpt::merge(const MergeContext& mc) {
         const Vertex& c = m_camera[t - 1];
         if (!mergeable(c) || c.beta.is_zero()) continue;
         const MergeSideSum camera_sum = camera_merge_sum(t);  // before bsdf_at(c): it may use the scratch
-        const Bsdf& bsdf = bsdf_at(m_scene, c.hit);
+        const Bsdf& bsdf = m_scene.bsdf_at(c.hit);
         const bool transmits = m_scene.materials[c.hit.material].flags.has(BsdfFlags::transmission);
         const float cos_o = dot(c.wo, c.hit.n);
         const float camera_density = remap0(c.pdf_fwd);

@@ -19,14 +19,6 @@ inline float mean_active(const SampledSpectrum& r, const SampledWavelengths& lam
     return lambda.secondary_terminated() ? r[0] : r.average();
 }
 
-/// The BSDF at a surface hit: its material's, or for a textured material the one with its
-/// parameters read at the hit (in this thread's scratch BSDF, as bdpt's bsdf_at).
-const Bsdf& bsdf_at(const Scene& scene, const Hit& hit, const Material& m) {
-    if (!m.textured) [[likely]] return m.bsdf;
-    thread_local Bsdf scratch;
-    return scene.textured_bsdf(hit, scratch);
-}
-
 /// The value f (BSDF·|cos| or phase function) and solid-angle density of scattering into wi.
 struct ScatterEval {
     SampledSpectrum f;
@@ -281,7 +273,7 @@ SegmentTransmittance segment_transmittance(const Scene& scene, Ray ray, int medi
                          &*hit);
         if (!mat.reflects() || depth == settings.max_depth) break;
         ++depth;
-        const Bsdf& bsdf = bsdf_at(scene, *hit, mat);
+        const Bsdf& bsdf = scene.bsdf_at(*hit);
 
         // ---- Next-event estimation at vertices with a non-delta lobe ----
         const MediumInterface sides = scene.medium_interface(hit->prim);

@@ -154,6 +154,15 @@ struct Scene {
     /// anisotropic conductor's tangent to the surface's; returns it. Allocates nothing once
     /// `scratch` has held this material's BSDF.
     const Bsdf& textured_bsdf(const Hit& hit, Bsdf& scratch) const;
+    /// The BSDF at a surface hit: its material's, or for a textured material textured_bsdf
+    /// made in this thread's scratch BSDF (valid until the thread's next call). bdpt and the
+    /// volumetric path take it; the path loop keeps its own scratch on its stack.
+    const Bsdf& bsdf_at(const Hit& hit) const {
+        const Material& m = materials[hit.material];
+        if (!m.textured) [[likely]] return m.bsdf;
+        thread_local Bsdf scratch;
+        return textured_bsdf(hit, scratch);
+    }
     /// emitted() with textured emitters read at the hit's (u, v).
     SampledSpectrum emitted_textured(const Hit& hit, const SampledWavelengths& lambda) const;
     /// True when light `index` has an emission texture.
