@@ -41,11 +41,30 @@ Efficiency is 1 / (relMSE * time), and 1 / (dE^2 * time) for the chart (dE
 falls as 1/sqrt(time), relMSE as 1/time, so both are constant along a pure
 noise curve).
 
-All knob variants at one spp use the same seed (1000 + spp), so they are
-paired: the difference of a 16-bin and an exact render at the same seed is
-mostly the binning bias. A squared bias (in relMSE units) is estimated
-without the noise as mean(d1 * d2 / w), d1 and d2 such same-seed differences
-at the two largest spp values (independent seeds).
+Seeds
+-----
+A point is the mean of one or more renders with independent seeds. Replicate r
+at spp N has seed 1000 + N + 100000 r (replicate 0 is the seed every point had
+before replicates existed), and every knob variant at one spp uses the same
+seed set, so they are paired: the difference of a 16-bin and an exact render at
+the same seeds is mostly the binning bias. A point's error is the mean of its
+replicates' errors, with the standard error of that mean (std / sqrt(n)).
+
+Why replicates: on ``prism`` (a caustic seen through and behind a dispersive
+prism) a few rare, very bright samples carry nearly all of a render's relMSE,
+so the relMSE of ONE render is a heavy-tailed estimate of its expectation: at
+341x256 single renders of the path tracer at 4 spp scored from 0.09 to 434 (16
+seeds), and bdpt's from 0.58 to 295, which made single-seed curves go up and
+down. Such "noisy scenes" (``--noisy-scenes``, default prism) get
+``--noisy-seeds`` replicates per spp value of the sweep (default 16 8 4 2 for
+4 16 64 256 spp: about 1/sqrt(N), because the relative spread of one render's
+relMSE falls as the number of bright samples in it grows); a point at another
+spp (the bins and depth points sit at ``--bins-spp``, one of the sweep's values)
+takes that value's count. Every other scene gets ``--seeds`` (default 1).
+
+A squared bias (in relMSE units) is estimated without the noise as
+mean(d1 * d2 / w), d1 and d2 the same-seed differences of the two variants'
+mean images at the two largest spp values (independent seeds).
 
 Renders are cached (``--cache-dir``, default ``build/accuracy-cache``) under the
 program's version and sha256 and ``--run-tag``: an interrupted run picks up
@@ -97,17 +116,21 @@ DEFAULT_BINS = "16"
 BDPT_REFERENCE = ("prism", "glass-spheres", "cornell-point")
 DEFAULT_WL = 4
 
-SEED_BASE = 1000          # seed of every point at spp N: SEED_BASE + N (paired knobs)
+SEED_BASE = 1000          # seed of replicate r at spp N: SEED_BASE + N + SEED_STRIDE * r (paired knobs)
+SEED_STRIDE = 100_000     # above any spp, so no two (spp, replicate) pairs share a seed
+NOISY_SCENES = ("prism",)  # heavy-tailed relMSE of one render: several seeds per point (see the docstring)
 REFERENCE_SEED = 987654321  # halves use this and this + 1
 
 FULL = {
     "height": 64, "chart_height": 80, "spp": [4, 16, 64, 256, 1024], "bins_spp": 256,
     "depths": [1, 2, 4],
     "reference_spp": {"cornell": 16384, "cornell-point": 16384, "prism": 16384},
+    "noisy_seeds": [16, 8, 4, 2, 2],
 }
 QUICK = {
     "height": 24, "chart_height": 40, "spp": [4, 16, 64], "bins_spp": 16, "depths": [1, 2],
     "reference_spp": {"cornell": 512, "cornell-point": 512, "prism": 512},
+    "noisy_seeds": [3, 2, 2],
 }
 
 
@@ -128,10 +151,11 @@ class Config:
     dispersion: bool = True
     max_depth: int | None = None
     integrator: str = "path"
+    rep: int = 0          # replicate: an independent seed at the same spp
 
     @property
     def seed(self) -> int:
-        return SEED_BASE + self.spp
+        return SEED_BASE + self.spp + SEED_STRIDE * self.rep
 
     def key(self) -> str:
         parts = [bm.safe_name(self.scene), f"{self.spp}spp", f"bins{self.bins}", f"wl{self.wl}"]
@@ -174,6 +198,11 @@ class Point:
     trimmed: float = math.nan    # images: relMSE without the worst TRIM_FRACTION of the pixels (minus the
                                  # reference's trimmed noise)
     top_share: float = math.nan  # images: share of the relMSE carried by those worst pixels
+    # A plotted point is the mean of its replicates (independent seeds; one render if seeds = 1):
+    error_se: float = math.nan   # standard error of the mean error (NaN for one seed)
+    trimmed_se: float = math.nan
+    seeds: int = 1
+    replicates: list = field(default_factory=list)   # the single-render Points behind a mean
 
 
 @dataclass
@@ -391,7 +420,67 @@ def plan(scene: str, args, wavelengths: list[int], integrators: list[str], effec
     if image_scene:
         for d in args.depths:
             pts.append(Point("max-depth", str(d), Config(scene, args.bins_spp, max_depth=d)))
-    return pts
+    # Replicates: the same seed set for every knob at one spp (paired), independent between spp.
+    return [Point(p.knob, p.value, dataclasses.replace(p.config, rep=r))
+            for p in pts for r in range(seeds_at(scene, p.config.spp, args))]
+
+
+def seeds_at(scene: str, spp: int, args) -> int:
+    """Independent renders averaged for one point of ``scene`` at ``spp``: --noisy-seeds (one count
+    per value of the spp sweep; the last count for any later value) on a noisy scene, else --seeds."""
+    if scene not in args.noisy_scenes:
+        return args.seeds
+    i = args.spp.index(spp) if spp in args.spp else len(args.spp) - 1
+    counts = args.noisy_seeds
+    return max(args.seeds, counts[min(i, len(counts) - 1)])
+
+
+def aggregate(points: list[Point]) -> list[Point]:
+    """One Point per knob value and configuration (spp, integrator, ...), in the order of first
+    appearance: the mean of its replicates' errors, times and images, with the standard error of
+    the mean error (std with n − 1 / sqrt(n); NaN for one replicate). The mean image is what a
+    render with all the replicates' samples would give (up to the seeds' pattern); the bias
+    estimates and image ratios read it."""
+    groups: dict[tuple[str, str, Config], list[Point]] = {}
+    for p in points:  # by knob too: one render may stand in two series (the default at --bins-spp)
+        groups.setdefault((p.knob, p.value, dataclasses.replace(p.config, rep=0)), []).append(p)
+    out = []
+    for (_, _, config), reps in groups.items():
+        first = reps[0]
+
+        def mean(attr: str) -> float:
+            vals = [getattr(q, attr) for q in reps]
+            return float(np.mean(vals)) if vals else math.nan
+
+        def se(attr: str) -> float:
+            vals = [getattr(q, attr) for q in reps]
+            return float(np.std(vals, ddof=1) / math.sqrt(len(vals))) if len(vals) > 1 else math.nan
+
+        images = [q.image for q in reps if q.image is not None]
+        out.append(Point(
+            first.knob, first.value, config, time=mean("time"), paths_per_s=mean("paths_per_s"),
+            rays_per_s=mean("rays_per_s"), load1=mean("load1"), cached=all(q.cached for q in reps),
+            wall=math.nan, created=min((q.created for q in reps if q.created), default=""),
+            image=np.mean(images, axis=0) if images else None, error=mean("error"), raw=mean("raw"),
+            max_de=mean("max_de"), trimmed=mean("trimmed"), top_share=mean("top_share"),
+            error_se=se("error"), trimmed_se=se("trimmed"), seeds=len(reps), replicates=reps))
+    return out
+
+
+def rises(pts: list[Point], z: float = 2.0) -> list[tuple[Point, Point, float]]:
+    """Steps of a curve (sorted by spp) where the mean error rises by more than ``z`` combined
+    standard errors: (lower spp point, higher spp point, the rise in standard errors). A
+    step between single renders (no standard error) counts when it rises at all."""
+    out = []
+    for a, b in zip(pts, pts[1:]):
+        if not (math.isfinite(a.error) and math.isfinite(b.error)) or b.error <= a.error:
+            continue
+        se = math.hypot(*(x for x in (a.error_se, b.error_se) if math.isfinite(x))) \
+            if any(math.isfinite(x) for x in (a.error_se, b.error_se)) else 0.0
+        k = (b.error - a.error) / se if se > 0 else math.inf
+        if k > z:
+            out.append((a, b, k))
+    return out
 
 
 # ------------------------------------------------------------------------------------------
@@ -587,7 +676,7 @@ def firefly_dominated(res: SceneResult) -> bool:
 
 def trimmed_view(res: SceneResult) -> SceneResult:
     """The same scene with the trimmed relMSE as its error."""
-    pts = [dataclasses.replace(p, error=p.trimmed) for p in res.points]
+    pts = [dataclasses.replace(p, error=p.trimmed, error_se=p.trimmed_se) for p in res.points]
     return SceneResult(res.scene, res.size, pts, res.ref, chart_scene=res.chart_scene,
                        title=f"{res.scene}, trimmed relMSE (worst {TRIM_FRACTION:.1%} of the pixels dropped)")
 
@@ -599,6 +688,16 @@ def with_trimmed(results: list[SceneResult]) -> list[SceneResult]:
         if not is_chart(res) and firefly_dominated(res):
             out.append(trimmed_view(res))
     return out
+
+
+def spp_curves(res: SceneResult) -> dict[tuple[str, str], list[Point]]:
+    """The curves drawn against spp: (knob, value) → points sorted by spp ("" for the defaults)."""
+    lines: dict[tuple[str, str], list[Point]] = {}
+    for p in res.points:
+        if p.knob in ("spp", "wavelengths-per-path", "dispersion", "integrator") or \
+                (p.knob, p.value) == ("spectral-bins", "exact"):
+            lines.setdefault((p.knob, "" if p.knob == "spp" else p.value), []).append(p)
+    return {k: sorted(v, key=lambda p: p.config.spp) for k, v in lines.items()}
 
 
 def reading(results: list[SceneResult], args) -> list[str]:
@@ -617,8 +716,17 @@ def reading(results: list[SceneResult], args) -> list[str]:
             out.append(f"- Share of each render's relMSE in its worst {k} pixel(s) ({TRIM_FRACTION:.1%}): median "
                        f"{statistics.median(shares):.2f}, max {max(shares):.2f}"
                        + (" — a few outlier pixels carry the error, so the relMSE of one render is a poor estimate "
-                          "of its expectation (it jumps by 10× between neighbouring points); the trimmed relMSE "
-                          "below is steadier" if firefly_dominated(res) else "") + ".")
+                          "of its expectation (single renders jump by 10× between neighbouring points): each point "
+                          "is the mean over its seeds (the `seeds` column) with its standard error, and the trimmed "
+                          "relMSE below is steadier" if firefly_dominated(res) else "") + ".")
+        steps = [(key, a, b, z) for key, pts in spp_curves(res).items() for a, b, z in rises(pts)]
+        res.extra["rises"] = len(steps)
+        out.append("- Monotone in spp: " + (
+            "every curve's mean error falls from each spp to the next, or rises by less than 2 standard errors."
+            if not steps else "; ".join(
+                f"{key[0]} {key[1] or 'default'} rises from {a.config.spp} to {b.config.spp} spp "
+                f"({fmt(a.error)} → {fmt(b.error)}, " + (f"{z:.1f} s.e." if math.isfinite(z) else "single renders")
+                + ")" for key, a, b, z in steps) + "."))
         d_series = [p for p in res.points if p.knob == "spp"]
         exact = series(res, "spectral-bins", "exact")
         # --- efficiency per knob value, relative to the default at the same spp
@@ -795,31 +903,45 @@ def summary(results: list[SceneResult]) -> dict:
         "size": list(r.size),
         "reference": r.ref.note if r.ref is not None else "colour-science (no render)",
         "points": [{"knob": p.knob, "value": p.value, "spp": p.config.spp, "integrator": p.config.integrator,
-                    "time": num(p.time), "error": num(p.error), "raw": num(p.raw),
+                    "time": num(p.time), "error": num(p.error), "error_se": num(p.error_se), "seeds": p.seeds,
+                    "raw": num(p.raw), "trimmed": num(p.trimmed), "trimmed_se": num(p.trimmed_se),
                     "efficiency": num(efficiency(r, p))} for p in r.points]} for r in results}}
 
 
 def table(results: list[SceneResult]) -> list[str]:
-    lines = ["| scene | knob | value | spp | time (s) | samples/s | rays/s | error | metric | raw relMSE / noise ΔE | "
-             "trimmed relMSE | worst-px share | efficiency (1/s) | load (1 min) |",
-             "| --- | --- | --- | ---: | ---: | ---: | ---: | ---: | --- | ---: | ---: | ---: | ---: | ---: |"]
+    lines = ["| scene | knob | value | spp | seeds | time (s) | samples/s | rays/s | error | error s.e. | metric | "
+             "raw relMSE / noise ΔE | trimmed relMSE | worst-px share | efficiency (1/s) | load (1 min) |",
+             "| --- | --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | --- | ---: | ---: | ---: | ---: | ---: |"]
     for res in results:
         metric = "mean ΔE2000" if is_chart(res) else "relMSE"
         for p in res.points:
-            lines.append(f"| {res.scene} | {p.knob} | {p.value} | {p.config.spp} | {p.time:.3g} | {p.paths_per_s:.3g} | "
-                         f"{p.rays_per_s:.3g} | {fmt(p.error, 4)} | {metric} | {fmt(p.raw, 4)} | "
+            lines.append(f"| {res.scene} | {p.knob} | {p.value} | {p.config.spp} | {p.seeds} | {p.time:.3g} | "
+                         f"{p.paths_per_s:.3g} | {p.rays_per_s:.3g} | {fmt(p.error, 4)} | {fmt(p.error_se, 2)} | "
+                         f"{metric} | {fmt(p.raw, 4)} | "
                          f"{fmt(p.trimmed, 4)} | {fmt(p.top_share, 2)} | {fmt(efficiency(res, p))} | {fmt(p.load1, 2)} |")
     return lines
 
 
+def errorbars(ax, pts: list[Point], color) -> None:
+    """± 1 standard error of the mean over seeds (points of several seeds only; on log axes the
+    lower end is clipped at a tenth of the value, where the bar would cross zero)."""
+    pts = [p for p in pts if math.isfinite(p.error_se)]
+    if pts:
+        lo = [min(p.error_se, 0.9 * p.error) for p in pts]
+        ax.errorbar([p.time for p in pts], [p.error for p in pts], yerr=[lo, [p.error_se for p in pts]],
+                    fmt="none", ecolor=color, elinewidth=0.9, capsize=2.5, alpha=0.8)
+
+
 STYLE = {
-    ("spp", ""): dict(color="C0", marker="o", ls="-", label="spp 4…1024 (16 bins, 4 λ/path)"),
+    ("spp", ""): dict(color="C0", marker="o", ls="-", label="spp sweep (path, 16 bins, 4 λ/path)"),
     ("wavelengths-per-path", "1"): dict(color="C1", marker="s", ls="-", label="1 λ/path (hero alone)"),
     ("wavelengths-per-path", "8"): dict(color="C5", marker="s", ls="-", label="8 λ/path"),
     ("dispersion", "off"): dict(color="C2", marker="^", ls="-", label="dispersion off (mean index)"),
     ("spectral-bins", "exact"): dict(color="C3", marker="D", ls="--", label="--spectral-bins exact"),
     ("integrator", "bdpt"): dict(color="C6", marker="P", ls="-", label="--integrator bdpt"),
     ("dispersion", "off, bdpt"): dict(color="C2", marker="^", ls=":", label="dispersion off, bdpt"),
+    ("integrator", "vcm"): dict(color="C9", marker="X", ls="-", label="--integrator vcm"),
+    ("dispersion", "off, vcm"): dict(color="C2", marker="^", ls="-.", label="dispersion off, vcm"),
 }
 
 
@@ -839,14 +961,11 @@ def plot(results: list[SceneResult], args, path: Path, title: str, notes: list[s
                              transform=axes.ravel()[n].transAxes, wrap=True)
     for ax, res in zip(axes.ravel(), results):
         chart = is_chart(res)
-        lines = {}
-        for p in res.points:
-            if p.knob in ("spp", "wavelengths-per-path", "dispersion", "integrator") or (p.knob, p.value) == ("spectral-bins", "exact"):
-                lines.setdefault((p.knob, "" if p.knob == "spp" else p.value), []).append(p)
-        for key, pts in lines.items():
+        for key, pts in spp_curves(res).items():
             pts = sorted([p for p in pts if p.error > 0], key=lambda p: p.config.spp)
             st = STYLE.get(key, dict(marker="o", ls="-", label=f"{key[0]} {key[1]}"))
-            ax.plot([p.time for p in pts], [p.error for p in pts], ms=5, lw=1.3, **st)
+            line, = ax.plot([p.time for p in pts], [p.error for p in pts], ms=5, lw=1.3, **st)
+            errorbars(ax, pts, line.get_color())
             if key == ("spp", ""):
                 for p in pts:
                     ax.annotate(str(p.config.spp), (p.time, p.error), textcoords="offset points", xytext=(4, 4),
@@ -855,12 +974,14 @@ def plot(results: list[SceneResult], args, path: Path, title: str, notes: list[s
                 and p.config.spp == args.bins_spp and p.value not in ("exact", DEFAULT_BINS)]
         ax.plot([p.time for p in bins], [p.error for p in bins], "D", color="C3", mfc="none", ms=6, ls="none",
                 label=f"--spectral-bins 4, 8, 32, 64 ({args.bins_spp} spp)")
+        errorbars(ax, bins, "C3")
         for p in bins:
             ax.annotate(p.value, (p.time, p.error), textcoords="offset points", xytext=(4, -9), fontsize=7, color="C3")
         depth = [p for p in res.points if p.knob == "max-depth" and p.error > 0]
         if depth:
             ax.plot([p.time for p in depth], [p.error for p in depth], "v", color="C4", ms=5, ls="none",
                     label=f"--max-depth 1, 2, 4 ({args.bins_spp} spp)")
+            errorbars(ax, depth, "C4")
             for p in depth:
                 ax.annotate(f"d{p.value}", (p.time, p.error), textcoords="offset points", xytext=(4, 2),
                             fontsize=7, color="C4")
@@ -922,6 +1043,14 @@ def parse_args(argv):
     p.add_argument("--reference-integrator",
                    help="integrator of every reference (default: bdpt for prism, whose caustic path tracing "
                         "finds only by chance, and cornell-point, whose caustic it cannot find; path for cornell)")
+    p.add_argument("--seeds", type=int, default=1,
+                   help="independent renders averaged per point on every scene (default 1)")
+    p.add_argument("--noisy-scenes", nargs="*", default=list(NOISY_SCENES),
+                   help="scenes whose single-render relMSE is heavy-tailed (default prism): they get "
+                        "--noisy-seeds renders per point")
+    p.add_argument("--noisy-seeds", type=int, nargs="+",
+                   help="seeds per point on the noisy scenes, one count per --spp value in increasing order "
+                        "(the last repeats; default 16 8 4 2 2; quick 3 2 2)")
     p.add_argument("--wavelengths-per-path", dest="wavelengths", type=int, nargs="+", default=[1, 4, 8],
                    help="wavelengths per path to compare (default 1 4 8; values the program rejects are "
                         "reported and skipped)")
@@ -934,6 +1063,9 @@ def parse_args(argv):
     a.spp = sorted(set(a.spp or preset["spp"]))
     a.bins_spp = a.bins_spp or preset["bins_spp"]
     a.depths = preset["depths"] if a.depths is None else a.depths
+    a.noisy_seeds = a.noisy_seeds or preset["noisy_seeds"]
+    if a.seeds < 1 or min(a.noisy_seeds) < 1:
+        p.error("--seeds and --noisy-seeds: expected counts of at least 1")
     a.ref_spp = {s: a.reference_spp or preset["reference_spp"].get(s, preset["reference_spp"]["cornell"])
                  for s in a.scenes}
     if a.program is None:
@@ -1057,18 +1189,20 @@ def main(argv=None) -> int:
                 measure_point(ctx, p, size, f"  [{n + 1}/{len(pts)}]")
                 unique[p.config] = p
             (evaluate_chart if scene == CHART_SCENE else evaluate_images)(res)
+            res.points = aggregate(res.points)   # one point per configuration: the replicates' mean
             results.append(res)
 
         total = time.perf_counter() - started
-        loads = [p.load1 for r in results for p in r.points if math.isfinite(p.load1)]
+        renders = [q for r in results for p in r.points for q in p.replicates]
+        loads = [q.load1 for q in renders if math.isfinite(q.load1)]
         views = with_trimmed(results)
         read = reading(views, args)
 
-        cached = sum(1 for r in results for p in r.points if p.cached)
-        walls = [p.wall for r in results for p in r.points if math.isfinite(p.wall)]
+        cached = sum(1 for q in renders if q.cached)
+        walls = [q.wall for q in renders if math.isfinite(q.wall)]
         n_renders, points_wall = len(walls), sum(walls)
         refs_wall = sum(r.ref.wall for r in results if r.ref is not None)
-        made = sorted(p.created for r in results for p in r.points if p.created)
+        made = sorted(q.created for q in renders if q.created)
         first_made, last_made = (made[0], made[-1]) if made else ("?", "?")
         header = [
             "# Accuracy against cost",
@@ -1089,11 +1223,14 @@ def main(argv=None) -> int:
             "- sizes: " + ", ".join(f"{r.scene} {r.size[0]}x{r.size[1]}" for r in results)
             + (f" ({results[[r.scene for r in results].index(CHART_SCENE)].extra.get('pixels_per_patch')} pixels per patch averaged)"
                if CHART_SCENE in args.scenes else ""),
-            f"- seed of every point: {SEED_BASE} + spp (all knobs at one spp are paired)",
+            f"- seeds: replicate r at N spp has seed {SEED_BASE} + N + {SEED_STRIDE} r; all knobs at one spp share "
+            "the seed set (paired); a point is the mean of its replicates, ± its standard error: "
+            + "; ".join(f"{r.scene} " + ", ".join(f"{n} spp × {seeds_at(r.scene, n, args)}" for n in args.spp)
+                        for r in results),
             f"- renders: {n_renders} distinct points rendered {first_made} … {last_made}, "
             f"{points_wall:.0f} s of program wall time, plus {refs_wall:.0f} s for the references "
             f"(total {(points_wall + refs_wall) / 60:.1f} min); this report took {total:.0f} s, "
-            f"{cached} of {sum(len(r.points) for r in results)} table rows from the cache (tag `{args.run_tag}`)",
+            f"{cached} of {len(renders)} renders from the cache (tag `{args.run_tag}`)",
         ]
         if unsupported:
             header.append("- not measured (the program rejects it): " + "; ".join(
@@ -1128,7 +1265,10 @@ def main(argv=None) -> int:
         notes = [
             "How to read",
             "",
-            "• one render per point; all knobs at one spp share a seed",
+            "• a point: mean over independent seeds, bar ± 1 s.e.",
+            f"  ({', '.join(args.noisy_scenes)}: {'/'.join(map(str, args.noisy_seeds[:len(args.spp)]))} seeds at "
+            f"{'/'.join(map(str, args.spp))} spp; others {args.seeds});",
+            "  all knobs at one spp share the seed set",
             "• image scenes: relMSE against a reference (exact spectra,",
             f"  {'/'.join(map(str, ref_spps))} spp) minus the reference's own noise",
             "• colorchecker: mean ΔE2000 against colour-science",
