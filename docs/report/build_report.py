@@ -80,7 +80,7 @@ FULL = {
     "chart_spp": 128, "chart_exact_spp": 1024, "chart_size": None, "chart_bins": (4, 8, 16, 32, 64),
     "accuracy_cost": ["--height", "256", "--spp", "4", "16", "64", "256", "--bins-spp", "64",
                       "--reference-spp", "1024", "--integrators", "path", "bdpt", "vcm",
-                      "--wavelengths-per-path", "1", "4"],
+                      "--wavelengths-per-path", "1", "4", "--noisy-scenes", "prism", "--noisy-seeds", "16", "8", "4", "2"],
 }
 QUICK = {
     "size": 32, "threads": 2,
@@ -92,7 +92,7 @@ QUICK = {
     "extension_spp": 4, "integrators_spp": 2, "gallery_width": 32, "gallery_spp": 2,
     "chart_spp": 4, "chart_exact_spp": 0, "chart_size": None, "chart_bins": (16,),
     "accuracy_cost": ["--quick", "--scenes", "cornell-point", "--integrators", "path", "bdpt", "vcm",
-                      "--spp", "4", "16", "--bins-spp", "16",
+                      "--spp", "4", "16", "--bins-spp", "16", "--seeds", "2",
                       "--depths", "1", "--wavelengths-per-path", "4"],
 }
 
@@ -539,14 +539,20 @@ def extensions(r: Renderer, p: dict, figs: Path) -> dict:
         out[key] = {"integrators": ", ".join(f"`{i}`" for i in ok) or "none",
                     "refused": ", ".join(f"`{i}`" for i in ("path", "bdpt", "vcm") if i not in ok) or "none"}
 
-    # Textures and rough glass in every integrator: each integrator's mean luminance against
-    # path tracing's (same expected image; the ratio's distance from 1 is noise or a bias).
+    # Textures, rough glass and a homogeneous medium in every integrator that accepts them: each
+    # integrator's mean luminance against path tracing's (same expected image where path tracing
+    # samples all the light; the ratio's distance from 1 is then noise or a bias). prism-haze's
+    # spot light reaches the haze behind the prism only through the glass, which path tracing
+    # cannot sample (section 3): its ratio measures the light the path tracer misses.
     lum = np.array([0.2126, 0.7152, 0.0722])
-    for key, scene, size in (("textured", "textured", n), ("frosted", "frosted-glass", n)):
-        imgs = {i: r.render(scene, width=size, spp=p["integrators_spp"], seed=28, integrator=i)
-                for i in ("path", "bdpt", "vcm")}
+    for key, scene, size in (("textured", "textured", n), ("frosted", "frosted-glass", n),
+                             ("haze", "prism-haze", n)):
+        integs = [i for i in ("path", "bdpt", "vcm") if i == "path" or supports(r, ["--integrator", i], scene=scene)]
+        imgs = {i: r.render(scene, width=size, spp=p["integrators_spp"], seed=28, integrator=i) for i in integs}
         means = {i: float((x.image @ lum).mean()) for i, x in imgs.items()}
-        out[key] = {f"{i}_vs_path": ratio(means[i], means["path"]) for i in ("bdpt", "vcm")}
+        out[key] = {f"{i}_vs_path": ratio(means[i], means["path"]) for i in integs if i != "path"}
+        out[key]["path_vs_bdpt"] = ratio(means["path"], means["bdpt"]) if "bdpt" in means else math.nan
+        out[key]["integrators"] = ", ".join(f"`{i}`" for i in integs)
         out[key].update({f"seconds_{i}": x.seconds for i, x in imgs.items()})
         panels(figs / f"{key}_integrators.png", [load_png(x.png) for x in imgs.values()],
                [f"{i}: {x.seconds:.1f} s, mean / path {ratio(means[i], means['path']):.3f}" for i, x in imgs.items()])
@@ -620,7 +626,11 @@ def scaled_accuracy_argv(argv: list[str], fraction: float) -> tuple[list[str], f
                 del out[i]
             del out[i - 1]
     tag = f"estimate-{fraction:g}"
-    kept = (sum(spp) + ref) / (sum(a.spp) + max(a.ref_spp.values()))
+    # Each spp value is rendered with as many seeds as in the full run (the counts go by position
+    # in the sweep), so weigh it by its mean seed count over the scenes.
+    seeds = [sum(accuracy_cost.seeds_at(sc, n, a) for sc in a.scenes) / len(a.scenes) for n in a.spp]
+    kept = (sum(w * n for w, n in zip(seeds, spp)) + ref) / (sum(w * n for w, n in zip(seeds, a.spp))
+                                                             + max(a.ref_spp.values()))
     return out + ["--spp", *map(str, spp), "--bins-spp", str(bins), "--reference-spp", str(ref),
                   "--out", str(a.out.parent / f"accuracy-{tag}"), "--cache-dir", str(a.cache_dir),
                   "--run-tag", tag], kept
@@ -648,9 +658,10 @@ def accuracy_section(r: Renderer, p: dict, figs: Path, cache: Path) -> dict:
     save_png_optimized(figs / "accuracy_cost.png")
     data = json.loads((folder / "accuracy_cost.json").read_text())
     # Per scene and integrator: the spp sweep at the defaults (path's is the knob "spp").
-    lines = ["| scene | integrator | reference | spp | time (s) | error | efficiency | slope of error vs spp |",
-             "|---|---|---|---:|---:|---:|---:|---:|"]
+    lines = ["| scene | integrator | reference | spp | seeds | time (s) | error ± s.e. | efficiency | slope of error vs spp |",
+             "|---|---|---|---:|---:|---:|---:|---:|---:|"]
     out = {"scenes": {}}
+    rises = []  # steps of a curve where the mean error rises by more than 2 standard errors
     for scene, s in data["scenes"].items():
         out["scenes"][scene] = {}
         for integ in ("path", "bdpt", "vcm"):
@@ -662,16 +673,46 @@ def accuracy_section(r: Renderer, p: dict, figs: Path, cache: Path) -> dict:
             slope, se = loglog_fit([q["spp"] for q in good], [q["error"] for q in good]) if len(good) >= 2 \
                 else (math.nan, math.nan)
             last = pts[-1]
+            for a, b in zip(pts, pts[1:]):
+                if a["error"] is None or b["error"] is None or b["error"] <= a["error"]:
+                    continue
+                bar = math.hypot(a.get("error_se") or 0.0, b.get("error_se") or 0.0)
+                if bar == 0 or b["error"] - a["error"] > 2 * bar:
+                    rises.append(f"{scene}/{integ} {a['spp']}→{b['spp']} spp")
             out["scenes"][scene][integ] = {"spp": last["spp"], "time": last["time"], "error": last["error"],
+                                           "error_se": last.get("error_se"), "seeds": last.get("seeds", 1),
                                            "efficiency": last["efficiency"], "slope": slope, "slope_se": se}
-            lines.append(f"| {scene} | {integ} | {s['reference']} | {last['spp']} | {last['time'] or math.nan:.2f} | "
-                         f"{last['error'] or math.nan:.3g} | {last['efficiency'] or math.nan:.3g} | "
+            bar = last.get("error_se")
+            lines.append(f"| {scene} | {integ} | {s['reference']} | {last['spp']} | {last.get('seeds', 1)} | "
+                         f"{last['time'] or math.nan:.2f} | {last['error'] or math.nan:.3g}"
+                         + (f" ± {bar:.2g}" if bar is not None else "") + f" | {last['efficiency'] or math.nan:.3g} | "
                          f"{slope:.2f} ± {se:.2f} |")
     out["table"] = "\n".join(lines)
+    best, flatter = [], []
+    for scene, by_integ in out["scenes"].items():
+        ranked = sorted(((v["efficiency"] or 0.0, integ) for integ, v in by_integ.items()), reverse=True)
+        if len(ranked) > 1:
+            best.append(f"`{scene}` {ranked[0][1]} ({ranked[0][0]:.3g}/s; next {ranked[1][1]}, {ranked[1][0]:.3g}/s)")
+        for integ, v in by_integ.items():
+            target = -0.5 if scene == accuracy_cost.CHART_SCENE else -1.0
+            if math.isfinite(v["slope_se"]) and v["slope"] - target > 2 * v["slope_se"]:
+                flatter.append(f"`{scene}` {integ} ({v['slope']:.2f} ± {v['slope_se']:.2f})")
+    out["best"] = "; ".join(best) or "—"
+    out["flatter"] = ", ".join(flatter) or "none"
+    out["monotone"] = ("every curve of this table falls from each spp to the next, or rises by less than two "
+                       "standard errors" if not rises else
+                       "these steps rise by more than two standard errors: " + ", ".join(rises))
     out["report"] = "accuracy/accuracy_cost.md"
     args = accuracy_cost.parse_args(argv)
     out["height"] = args.height
     out["reference_spp"] = ", ".join(sorted({str(v) for v in args.ref_spp.values()}))
+    noisy = [sc for sc in args.noisy_scenes if sc in args.scenes]
+    others = f"{args.seeds} seed{'s' if args.seeds != 1 else ''} per point"
+    out["seeds_note"] = (
+        "; ".join(f"`{sc}` averages " + ", ".join(f"{accuracy_cost.seeds_at(sc, n, args)} at {n}" for n in args.spp)
+                  + " spp" for sc in noisy)
+        + " (about $1/\\sqrt{N}$ seeds, since the spread of one render's relMSE narrows as the number of "
+        f"bright samples in it grows), the other scenes {others}" if noisy else f"every scene {others}")
     return out
 
 
@@ -758,7 +799,7 @@ def measured_files(r: Renderer, p: dict, figs: Path) -> dict:
     # bench/README.md: one block per mesh, "N triangles (name)", then "build: ... (ours/Embree Rx)"
     # and "SET  T thread(s): ... ours/Embree R".
     text = (ROOT / "bench" / "README.md").read_text()
-    lines = ["| mesh | triangles | build | camera 1T | camera 2T | diffuse 1T | diffuse 2T | shadow 1T | shadow 2T |",
+    lines = ["| mesh | triangles | build time | camera 1T | camera 2T | diffuse 1T | diffuse 2T | shadow 1T | shadow 2T |",
              "|---|---:|---:|---:|---:|---:|---:|---:|---:|"]
     meshes = {}
     for block in re.split(r"\n(?=\d+ triangles \()", text)[1:]:
@@ -774,6 +815,23 @@ def measured_files(r: Renderer, p: dict, figs: Path) -> dict:
         lines.append(f"| {name} | {int(head.group(1)):,} | {float(build.group(1)):.2f} | " +
                      " | ".join(f"{rays[(k, t)]:.2f}" for k in ("camera", "diffuse", "shadow") for t in ("1", "2")) + " |")
     measured = re.search(r"Measured at ([^\n]*\n[^\n]*)", text)
+
+    def spread(cols: tuple[str, ...], names=None) -> str:
+        vals = [m[c] for n, m in meshes.items() if names is None or n in names for c in cols]
+        return f"{min(vals):.2f}–{max(vals):.2f}" if vals else "—"
+
+    large = [n for n, m in meshes.items() if m["triangles"] >= 200_000]
+    cells = [(m[f"{k}_{t}"], n, k, t) for n, m in meshes.items() for k in ("camera", "diffuse", "shadow")
+             for t in ("1", "2")]
+    low, high = min(cells), max(cells)
+    out["embree_summary"] = {
+        "camera_2": spread(("camera_2",)), "camera_1": spread(("camera_1",)),
+        "incoherent_1": spread(("diffuse_1", "shadow_1")),
+        "incoherent_2_large": spread(("diffuse_2", "shadow_2"), large),
+        "large_meshes": ", ".join(large), "build": spread(("build",)),
+        "lowest": f"{low[0]:.2f} ({low[2]} rays, {low[3]} thread{'s' if low[3] != '1' else ''}, {low[1]})",
+        "highest": f"{high[0]:.2f} ({high[2]} rays, {high[3]} thread{'s' if high[3] != '1' else ''}, {high[1]})",
+    } if meshes else {}
     out["embree"] = {"table": "\n".join(lines), "meshes": meshes,
                      "note": " ".join(measured.group(1).replace("*", "").split()).rstrip(":,")
                      if measured else "see bench/README.md"}
@@ -809,12 +867,20 @@ def main(argv=None) -> int:
     ap.add_argument("--only", action="append", choices=list(SECTIONS), metavar="SECTION",
                     help="re-run this section (repeatable); every other section's numbers come from its cached "
                          f"results of an earlier run with the same settings and program. Sections: {', '.join(SECTIONS)}")
+    ap.add_argument("--from-results", type=Path, metavar="RESULTS_JSON",
+                    help="with --only: a section without cached results of these settings and program takes its "
+                         "numbers from this results.json of an earlier run (e.g. the committed "
+                         "docs/report/results.json); the report then names that run's date, commit and program "
+                         "for those sections")
     ap.add_argument("--estimate", type=float, metavar="FRACTION",
                     help="render every stage at FRACTION of its spp (and time limits) into a cache of its own and "
                          "print what each stage would take on idle cores (CPU time scaled up); writes no report")
     a = ap.parse_args(argv)
     if a.estimate is not None and not 0 < a.estimate <= 1:
         ap.error(f"--estimate: expected a fraction in (0, 1], got {a.estimate}")
+    if a.from_results is not None and not a.only:
+        ap.error("--from-results: only with --only (the sections not re-run take their numbers from it)")
+    earlier = json.loads(a.from_results.read_text()) if a.from_results is not None else None
     p = QUICK if a.quick else FULL
     mode = "quick" if a.quick else "full"
     out = a.out or (ROOT / "build" / "report-quick" if a.quick else REPORT_DIR)
@@ -841,15 +907,23 @@ def main(argv=None) -> int:
         "machine": f"{benchmark.cpu_model()}, {os.cpu_count()} logical CPUs, {platform.system()} {platform.release()}",
         "threads": p["threads"], "size": p["size"],
     }}
-    stage_seconds, projected, failed = {}, {}, []
+    stage_seconds, projected, failed, from_earlier = {}, {}, [], []
     for name, step in SECTIONS.items():
         cached = section_cache / f"{name}-{tag}.json"
         if a.only and name not in a.only:
             if a.estimate:  # an estimate of some sections writes no report: nothing to fill in
                 continue
+            if not cached.is_file() and earlier is not None and name in earlier:
+                results[name] = earlier[name]
+                stage_seconds[name] = earlier["run"].get("stage_seconds", {}).get(name, 0.0)
+                from_earlier.append(name)
+                say(f"== {name}: from {a.from_results} ({earlier['run'].get('date')}, commit "
+                    f"{earlier['run'].get('commit')})")
+                continue
             if not cached.is_file():
                 raise SystemExit(f"build_report.py: --only: no cached results of section '{name}' for these "
-                                 f"settings and this program; run it too (--only {name}) or run without --only")
+                                 f"settings and this program; run it too (--only {name}), pass --from-results, "
+                                 "or run without --only")
             saved = json.loads(cached.read_text())
             results[name], stage_seconds[name] = saved["results"], saved["seconds"]
             say(f"== {name}: cached ({saved['seconds']:.1f} s when it ran)")
@@ -886,6 +960,12 @@ def main(argv=None) -> int:
     if a.estimate:
         return 0
     results["run"]["stage_seconds"] = {k: round(v, 1) for k, v in stage_seconds.items()}
+    # Which sections' numbers come from an earlier run (--from-results): the text names it.
+    results["run"]["earlier_sections"] = from_earlier
+    results["run"]["provenance"] = "" if not from_earlier else (
+        f" The sections {', '.join(from_earlier)} keep the numbers and figures of an earlier run: "
+        f"{earlier['run'].get('date')}, commit `{earlier['run'].get('commit')}`, program sha256 "
+        f"`{earlier['run'].get('program_sha256')}`, on {earlier['run'].get('machine')}.")
     results["run"]["stage_list"] = ", ".join(f"{k} {v / 60:.1f}" for k, v in stage_seconds.items()) + " min"
     results["run"]["minutes"] = sum(stage_seconds.values()) / 60
     results["run"]["this_invocation_minutes"] = (time.perf_counter() - started) / 60
