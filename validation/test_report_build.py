@@ -76,5 +76,26 @@ def test_changed_settings_do_not_reuse_cached_results(report, tmp_path, pathtrac
         run(module, tmp_path, pathtracer, "--only", "b")
 
 
+def test_from_results_takes_the_other_sections_from_an_earlier_run(report, tmp_path, pathtracer, monkeypatch):
+    """--only b --from-results FILE on a fresh cache: a and c come from FILE (not re-run), and the
+    run's provenance names them and FILE's commit; without --only, --from-results is refused."""
+    module, calls, state = report
+    state["b_fails"] = False
+    assert run(module, tmp_path, pathtracer) == 0
+    earlier = tmp_path / "earlier.json"
+    data = json.loads((tmp_path / "out" / "results.json").read_text())
+    data["a"]["x"], data["run"]["commit"] = "a-earlier", "0123abcd"
+    earlier.write_text(json.dumps(data))
+    fresh = ["--quick", "--program", str(pathtracer), "--out", str(tmp_path / "out"),
+             "--cache-dir", str(tmp_path / "fresh-cache")]
+    assert module.main(fresh + ["--only", "b", "--from-results", str(earlier)]) == 0
+    assert calls == {"a": 1, "b": 2, "c": 1}
+    results = json.loads((tmp_path / "out" / "results.json").read_text())
+    assert results["a"]["x"] == "a-earlier" and results["run"]["earlier_sections"] == ["a", "c"]
+    assert "0123abcd" in results["run"]["provenance"] and "a, c" in results["run"]["provenance"]
+    with pytest.raises(SystemExit):
+        module.main(fresh + ["--from-results", str(earlier)])
+
+
 if __name__ == "__main__":
     sys.exit(pytest.main([__file__, "-q"]))

@@ -19,7 +19,9 @@ checks that every figure is produced and that every key the text names has a val
 A stage that fails does not stop the others (the run then exits 1 naming it, without writing
 README.md); `--only SECTION` (repeatable) re-runs that section and takes every other section's
 numbers from its cached results (build/report-cache/<mode>/<program sha>/sections/, keyed by the
-settings and the program's hash). `--estimate FRACTION` renders every stage at that fraction of
+settings and the program's hash); with `--from-results docs/report/results.json` a section without
+cached results takes its numbers from that earlier run instead, and the text names the run (so
+one stage can be re-run on another machine). `--estimate FRACTION` renders every stage at that fraction of
 its spp into a cache of its own and prints each stage's projected time on idle cores (from the
 renders' CPU time, which other processes hardly change); it writes no report, and with --only
 it estimates those sections alone.
