@@ -56,11 +56,15 @@ so the relMSE of ONE render is a heavy-tailed estimate of its expectation: at
 341x256 single renders of the path tracer at 4 spp scored from 0.09 to 434 (16
 seeds), and bdpt's from 0.58 to 295, which made single-seed curves go up and
 down. Such "noisy scenes" (``--noisy-scenes``, default prism) get
-``--noisy-seeds`` replicates per spp value of the sweep (default 16 8 4 2 for
-4 16 64 256 spp: about 1/sqrt(N), because the relative spread of one render's
-relMSE falls as the number of bright samples in it grows); a point at another
-spp (the bins and depth points sit at ``--bins-spp``, one of the sweep's values)
-takes that value's count. Every other scene gets ``--seeds`` (default 1).
+``--noisy-seeds`` replicates per spp value of the sweep (default 32 16 4 2 for
+4 16 64 256 spp: many where a render is cheap and holds the fewest bright
+samples, few where one render already holds many and its relMSE spreads less;
+about 1/sqrt(N) overall). The bins and depth points sit at ``--bins-spp``, one
+of the sweep's values, and take its count. Every other scene gets ``--seeds``
+(default 1). At the report's sizes the 32 16 4 2 replicates add about 250 s of
+idle render time to the study (sum of the per-point times of the 2026-12-02
+idle run in docs/report/accuracy/accuracy_cost.json, prism's points times
+their extra seeds).
 
 A squared bias (in relMSE units) is estimated without the noise as
 mean(d1 * d2 / w), d1 and d2 the same-seed differences of the two variants'
@@ -125,7 +129,7 @@ FULL = {
     "height": 64, "chart_height": 80, "spp": [4, 16, 64, 256, 1024], "bins_spp": 256,
     "depths": [1, 2, 4],
     "reference_spp": {"cornell": 16384, "cornell-point": 16384, "prism": 16384},
-    "noisy_seeds": [16, 8, 4, 2, 2],
+    "noisy_seeds": [32, 16, 4, 2, 2],
 }
 QUICK = {
     "height": 24, "chart_height": 40, "spp": [4, 16, 64], "bins_spp": 16, "depths": [1, 2],
@@ -1050,7 +1054,7 @@ def parse_args(argv):
                         "--noisy-seeds renders per point")
     p.add_argument("--noisy-seeds", type=int, nargs="+",
                    help="seeds per point on the noisy scenes, one count per --spp value in increasing order "
-                        "(the last repeats; default 16 8 4 2 2; quick 3 2 2)")
+                        "(the last repeats; default 32 16 4 2 2; quick 3 2 2)")
     p.add_argument("--wavelengths-per-path", dest="wavelengths", type=int, nargs="+", default=[1, 4, 8],
                    help="wavelengths per path to compare (default 1 4 8; values the program rejects are "
                         "reported and skipped)")

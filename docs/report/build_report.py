@@ -82,7 +82,7 @@ FULL = {
     "chart_spp": 128, "chart_exact_spp": 1024, "chart_size": None, "chart_bins": (4, 8, 16, 32, 64),
     "accuracy_cost": ["--height", "256", "--spp", "4", "16", "64", "256", "--bins-spp", "64",
                       "--reference-spp", "1024", "--integrators", "path", "bdpt", "vcm",
-                      "--wavelengths-per-path", "1", "4", "--noisy-scenes", "prism", "--noisy-seeds", "16", "8", "4", "2"],
+                      "--wavelengths-per-path", "1", "4", "--noisy-scenes", "prism", "--noisy-seeds", "32", "16", "4", "2"],
 }
 QUICK = {
     "size": 32, "threads": 2,
@@ -713,8 +713,9 @@ def accuracy_section(r: Renderer, p: dict, figs: Path, cache: Path) -> dict:
     out["seeds_note"] = (
         "; ".join(f"`{sc}` averages " + ", ".join(f"{accuracy_cost.seeds_at(sc, n, args)} at {n}" for n in args.spp)
                   + " spp" for sc in noisy)
-        + " (about $1/\\sqrt{N}$ seeds, since the spread of one render's relMSE narrows as the number of "
-        f"bright samples in it grows), the other scenes {others}" if noisy else f"every scene {others}")
+        + " (many seeds where a render is cheap and holds few of the bright samples, few where one render "
+        f"already holds many and its relMSE spreads less), the other scenes {others}" if noisy
+        else f"every scene {others}")
     return out
 
 
