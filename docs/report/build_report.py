@@ -558,8 +558,39 @@ def extensions(r: Renderer, p: dict, figs: Path) -> dict:
         out[key].update({f"seconds_{i}": x.seconds for i, x in imgs.items()})
         panels(figs / f"{key}_integrators.png", [load_png(x.png) for x in imgs.values()],
                [f"{i}: {x.seconds:.1f} s, mean / path {ratio(means[i], means['path']):.3f}" for i, x in imgs.items()])
+    # Depth of field and motion blur: the scene as it is against a copy with the effect switched
+    # off in its camera (aperture 0: a pinhole; shutter closed to one instant), at equal spp with
+    # the scene's own integrator.
+    scratch = figs.parent / "scenes"
+    for key, scene, camera, labels in (
+            ("dof", "bokeh", {"aperture_radius": 0.0}, ("pinhole (aperture_radius 0)", "thin lens, as in the scene")),
+            ("motion_blur", "motion", {"shutter": [0.0, 0.0]}, ("shutter [0, 0]: one instant", "shutter [0, 1]"))):
+        off = r.render(scene_variant(scene, camera, scratch), width=n, spp=p["integrators_spp"], seed=5)
+        on = r.render(scene, width=n, spp=p["integrators_spp"], seed=5)
+        out[key] = {"seconds_off": off.seconds, "seconds_on": on.seconds, "time_ratio": ratio(on.seconds, off.seconds)}
+        panels(figs / f"{key}.png", [load_png(off.png), load_png(on.png)],
+               [f"{labels[0]}: {off.seconds:.1f} s", f"{labels[1]}: {on.seconds:.1f} s"])
     out["spp"], out["integrators_spp"] = spp, p["integrators_spp"]
     return out
+
+
+def scene_variant(name: str, camera: dict, folder: Path) -> Path:
+    """A copy of scenes/<name>.json with these camera keys replaced, written to `folder`; the files
+    it names (meshes, textures) by absolute path, so that the copy loads from anywhere."""
+    scene = json.loads((ROOT / "scenes" / f"{name}.json").read_text())
+    scene["camera"].update(camera)
+
+    def absolute(node):
+        if isinstance(node, dict):
+            return {k: (str(ROOT / "scenes" / v) if k == "file" and isinstance(v, str) else absolute(v))
+                    for k, v in node.items()}
+        if isinstance(node, list):
+            return [absolute(v) for v in node]
+        return node
+
+    path = folder / f"{name}-variant-{hashlib.sha256(json.dumps(camera).encode()).hexdigest()[:8]}.json"
+    path.write_text(json.dumps(absolute(scene), indent=1) + "\n")
+    return path
 
 
 def gallery_section(r: Renderer, p: dict, figs: Path) -> dict:
