@@ -80,7 +80,7 @@ FULL = {
     "caustic_seconds": 15.0, "prism_ref_spp": 2048,
     "extension_spp": 256, "integrators_spp": 64, "gallery_width": 320, "gallery_spp": None,
     "chart_spp": 128, "chart_exact_spp": 1024, "chart_size": None, "chart_bins": (4, 8, 16, 32, 64),
-    "accuracy_cost": ["--height", "256", "--spp", "4", "16", "64", "256", "--bins-spp", "64",
+    "accuracy_cost": ["--height", "256", "--chart-height", "256", "--spp", "4", "16", "64", "256", "--bins-spp", "64",
                       "--reference-spp", "1024", "--integrators", "path", "bdpt", "vcm",
                       "--wavelengths-per-path", "1", "4", "--noisy-scenes", "prism", "--noisy-seeds", "32", "16", "4", "2"],
 }
@@ -737,7 +737,7 @@ def accuracy_section(r: Renderer, p: dict, figs: Path, cache: Path) -> dict:
                        "these steps rise by more than two standard errors: " + ", ".join(rises))
     out["report"] = "accuracy/accuracy_cost.md"
     args = accuracy_cost.parse_args(argv)
-    out["height"] = args.height
+    out["height"], out["chart_height"] = args.height, args.chart_height
     out["reference_spp"] = ", ".join(sorted({str(v) for v in args.ref_spp.values()}))
     noisy = [sc for sc in args.noisy_scenes if sc in args.scenes]
     others = f"{args.seeds} seed{'s' if args.seeds != 1 else ''} per point"
