@@ -70,6 +70,11 @@ import gallery  # noqa: E402
 # colour 49, accuracy 774, gallery 94: 1803 s, an upper bound (a vcm render's fixed cost per pass
 # is scaled up with its spp). A reference has 8-16× the samples of the largest count compared
 # with it; its own noise is measured (two halves) and subtracted.
+# The accuracy stage took 514 s on the idle machine (2026-12-02 07:39 run). Its prism points
+# then became means over 32/16/4/2 seeds at 4/16/64/256 spp and its chart 256 pixels high:
+# about +250 s and +30 s by that run's per-point times, so about 13 min idle. `--only accuracy
+# --estimate 0.125` (2026-12-02, 16/8/4/2 seeds, 80-pixel chart, on the shared machine with a
+# load of 13-20: CPU time inflated) projected 773 s.
 # Quick: the pipeline in about a minute.
 FULL = {
     "size": 256, "threads": 2,
