@@ -15,6 +15,7 @@
 
 #include "chi2.h"
 #include "cone_histogram.h"
+#include "render/direct_light.h"
 #include "scene/scene.h"
 #include "test_scenes.h"
 
@@ -343,6 +344,53 @@ TEST(QuadLight, IrradianceCloseAboveMatchesAnalyticWithLowVariance) {
     const Estimate a = irradiance(area, 0, context({0, 0, 0}, {0, 1, 0}), 100000, 43);
     expect_irradiance(e, kPi * le * 4 * corner_form_factor(0.25, 0.25, h), "rectangle at 0.02");
     EXPECT_LT(e.stderr_ * 10, a.stderr_) << "solid angle " << e.stderr_ << ", area " << a.stderr_;
+}
+
+TEST(QuadLight, ShadowRaysSkipOnlyTheLightsOwnTriangles) {
+    // Next-event estimation does not test a quad light's own triangles (ShadowSkip): a segment
+    // ending on the quad's plane meets it only there. Same verdict with and without the skip
+    // from points all around (through gaps of an occluding pair of triangles, from close to
+    // the plane on both sides); negative control: skipping the occluder's light changes it.
+    const Vec3 o(-0.25f, 0.98f, -0.25f), e1(0.5f, 0, 0), e2(0, 0, 0.5f);
+    Scene scene = empty_scene();
+    const int light = scene.add_quad_emitter(o, e1, e2, constant(1.0));
+    const int blocker = scene.add_quad_emitter({-0.3f, 0.5f, -0.1f}, {0.4f, 0, 0}, {0, 0.1f, 0.3f}, constant(1.0));
+    auto quad_triangles = [](Vec3 q, Vec3 a, Vec3 b, int l) {
+        spt::Triangle t0{q, q + a, q + a + b, 0}, t1{q, q + a + b, q + b, 0};
+        t0.light = t1.light = l;
+        return std::vector<spt::Triangle>{t0, t1};
+    };
+    scene.triangles = quad_triangles(o, e1, e2, light);
+    for (const spt::Triangle& t : quad_triangles({-0.3f, 0.5f, -0.1f}, {0.4f, 0, 0}, {0, 0.1f, 0.3f}, blocker))
+        scene.triangles.push_back(t);
+    scene.finalize();
+    ASSERT_FALSE(scene.uses_bvh());
+    std::mt19937 rng(44);
+    std::uniform_real_distribution<float> u(0.f, 1.f);
+    int planar = 0, blocked = 0, control_differs = 0, samples = 0;
+    for (int k = 0; k < 20000; ++k) {
+        spt::Hit hit;
+        hit.p = Vec3(2.f * u(rng) - 1.f, k % 4 == 0 ? 0.98f + 0.04f * (u(rng) - 0.5f) : 2.f * u(rng) - 1.f,
+                     2.f * u(rng) - 1.f);
+        hit.p_err = spt::rounded_point_error(hit.p);
+        hit.n = hit.ns = Vec3(0, 1, 0);
+        const LightSampleContext ctx{hit.p, hit.p_err, hit.n, hit.ns, true};
+        const float u1 = u(rng), u2 = u(rng);
+        const std::optional<spt::LightSample> ls =
+            spt::light_sample_li(scene.lights[light], ctx, spt::SampledWavelengths::sample(0.5f), u1, u2);
+        if (!ls) continue;
+        ++samples;
+        const spt::ShadowRay shadow = spt::shadow_ray_to(scene, hit, *ls, light);
+        planar += shadow.skip.planar_light == light;
+        const bool exact = scene.occluded(shadow.ray);
+        blocked += exact;
+        ASSERT_EQ(scene.occluded(shadow.ray, shadow.skip), exact) << "from (" << hit.p.x << ", " << hit.p.y << ", "
+                                                                   << hit.p.z << ")";
+        control_differs += scene.occluded(shadow.ray, {-1, blocker}) != exact;
+    }
+    EXPECT_EQ(planar, samples);
+    EXPECT_GT(blocked, samples / 50) << "the occluder must block some rays for the test to mean anything";
+    EXPECT_GT(control_differs, 0);
 }
 
 TEST(TriangleMeshLight, QuadIrradianceMatchesAnalytic) {

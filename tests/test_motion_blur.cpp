@@ -240,8 +240,8 @@ TEST(MotionBlur, MovingMeshHitsWhereTheMovedMeshIs) {
             expect_near(a->p, b->p, 1e-4f, "hit point");
             EXPECT_NEAR(dot(a->n, b->n), 1.f, 1e-4f);
             EXPECT_EQ(a->prim.kind(), ShapeKind::moving);
-            EXPECT_EQ(moving.occluded(Ray{o, ray.d, a->t * 0.999f}, -1, time), false);
-            EXPECT_EQ(moving.occluded(Ray{o, ray.d, a->t * 1.001f}, -1, time), true);
+            EXPECT_EQ(moving.occluded(Ray{o, ray.d, a->t * 0.999f}, {}, time), false);
+            EXPECT_EQ(moving.occluded(Ray{o, ray.d, a->t * 1.001f}, {}, time), true);
         }
         EXPECT_GT(hits, 150) << time;
         EXPECT_LE(mismatches, 4) << time;

@@ -422,7 +422,7 @@ bool Bdpt::visible(const Vertex& a, const Vertex& b) {
     const Ray ray = spawn_ray_between(a.p(), a.hit.p_err, a.hit.n, b.p(), b.hit.p_err, b.hit.n);
     if (!(ray.t_max > 0.f)) return false;
     ++m_stats.rays;
-    return !m_scene.occluded(ray, -1, m_time);
+    return !m_scene.occluded(ray, {}, m_time);
 }
 
 int Bdpt::medium_towards(const Vertex& v, const Vec3& w) const {
@@ -590,7 +590,7 @@ SampledSpectrum Bdpt::connect() {
                 if (c.is_zero()) continue;
                 if (!m_media) {
                     ++m_stats.rays;
-                    if (m_scene.occluded(spawn_ray(pt.hit, qs.dir), -1, m_time)) continue;
+                    if (m_scene.occluded(spawn_ray(pt.hit, qs.dir), {}, m_time)) continue;
                 }
                 accumulate(c * mis_weight(1, t, tr.T[0]), terminated);
                 continue;

@@ -33,7 +33,7 @@ namespace {
         const SampledSpectrum f_cos = bsdf_eval(bsdf, wo, wi, hit.ns, lambda, TransportMode::radiance);
         if (f_cos.is_zero()) continue;
         ++stats.rays;
-        if (scene.occluded(spawn_ray_to(hit, position), -1, time)) continue;
+        if (scene.occluded(spawn_ray_to(hit, position), {}, time)) continue;
         Ld += f_cos * light.intensity.sample(lambda) / dist2;
     }
     for (int i : scene.spot_light_indices) {
@@ -43,7 +43,7 @@ namespace {
         const SampledSpectrum f_cos = bsdf_eval(bsdf, wo, ls->wi, hit.ns, lambda, TransportMode::radiance);
         if (f_cos.is_zero()) continue;
         ++stats.rays;
-        if (scene.occluded(spawn_ray_to(hit, ls->p), -1, time)) continue;
+        if (scene.occluded(spawn_ray_to(hit, ls->p), {}, time)) continue;
         Ld += f_cos * ls->L;
     }
     return Ld;
@@ -69,8 +69,8 @@ template <bool kTextured>
     const SampledSpectrum f_cos = bsdf_eval(bsdf, wo, ls->wi, hit.ns, lambda, TransportMode::radiance);
     if (f_cos.is_zero()) return SampledSpectrum(0.f);
     ++stats.rays;
-    const ShadowRay shadow = shadow_ray_to(scene, hit, *ls);
-    if (scene.occluded(shadow.ray, shadow.skip_sphere, time)) return SampledSpectrum(0.f);
+    const ShadowRay shadow = shadow_ray_to(scene, hit, *ls, index);
+    if (scene.occluded(shadow.ray, shadow.skip, time)) return SampledSpectrum(0.f);
     const float pdf_light = choice * ls->pdf;
     if (!mis) return f_cos * ls->L / pdf_light;
     const float pdf_bsdf = bsdf_pdf(bsdf, wo, ls->wi, hit.ns, lambda.lambda[0]);

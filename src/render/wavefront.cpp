@@ -36,7 +36,7 @@ struct Wavefront::PathState {
 /// A light sample waiting for its shadow ray, with what it adds if the ray is clear.
 struct Wavefront::ShadowRay {
     Ray ray;
-    int skip_sphere;
+    ShadowSkip skip;
     SampledSpectrum contribution;
 };
 
@@ -228,14 +228,14 @@ void Wavefront::shade(int begin, int end, ChunkQueues& out, PathStats& stats) {
             for (int l : scene.point_light_indices) {
                 const PointLight& light = *std::get_if<PointLight>(&scene.lights[l]);
                 if (const std::optional<PointLightRay> r = point_light_ray(light, bsdf, hit, wo, lambda, path.time)) {
-                    out.rays.push_back({r->shadow, -1, point_light_contribution(light, *r, lambda)});
+                    out.rays.push_back({r->shadow, {}, point_light_contribution(light, *r, lambda)});
                     ++record.point_rays;
                 }
             }
             for (int l : scene.spot_light_indices)
                 if (const std::optional<SpotLightRay> r =
                         spot_light_ray(*std::get_if<SpotLight>(&scene.lights[l]), bsdf, hit, wo, lambda)) {
-                    out.rays.push_back({r->shadow, -1, r->f_cos * r->L});
+                    out.rays.push_back({r->shadow, {}, r->f_cos * r->L});
                     ++record.point_rays;
                 }
         }
@@ -246,7 +246,7 @@ void Wavefront::shade(int begin, int end, ChunkQueues& out, PathStats& stats) {
             if (const std::optional<AreaLightRay> r =
                     area_light_ray<false>(scene, choices, bsdf, hit, ctx, wo, lambda, ul, ul1, ul2)) {
                 const bool mis = settings.light_sampling == LightSampling::mis;
-                out.rays.push_back({r->shadow, r->skip_sphere, area_light_contribution(*r, bsdf, hit, wo, lambda, mis)});
+                out.rays.push_back({r->shadow, r->skip, area_light_contribution(*r, bsdf, hit, wo, lambda, mis)});
                 record.area_ray = true;
             }
         }
@@ -294,11 +294,11 @@ void Wavefront::trace_shadow_rays(const ChunkQueues& in) {
         if (record.point) {
             SampledSpectrum Ld(0.f);
             for (std::uint32_t k = 0; k < record.point_rays; ++k, ++ray)
-                if (!m_scene.occluded(ray->ray, ray->skip_sphere, path.time)) Ld += ray->contribution;
+                if (!m_scene.occluded(ray->ray, ray->skip, path.time)) Ld += ray->contribution;
             path.L += path.beta_nee * Ld;
         }
         if (record.area) {
-            const bool clear = record.area_ray && !m_scene.occluded(ray->ray, ray->skip_sphere, path.time);
+            const bool clear = record.area_ray && !m_scene.occluded(ray->ray, ray->skip, path.time);
             path.L += path.beta_nee * (clear ? ray->contribution : SampledSpectrum(0.f));
         }
     }

@@ -84,8 +84,8 @@ std::optional<Hit> Scene::intersect_out_of_line(const Ray& ray, double t_best, i
     return hit;
 }
 
-bool Scene::occluded_out_of_line(const Ray& ray, int skip_sphere, float time) const {
-    if (m_use_bvh ? occluded_bvh(ray) : occluded_few(ray, skip_sphere)) return true;
+bool Scene::occluded_out_of_line(const Ray& ray, ShadowSkip skip, float time) const {
+    if (m_use_bvh ? occluded_bvh(ray) : occluded_few(ray, skip)) return true;
     for (std::size_t i = 0; i < moving_shapes.size(); ++i)
         if (intersect_moving(i, ray, time, ray.t_max)) return true;
     return false;

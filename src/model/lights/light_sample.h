@@ -30,6 +30,9 @@ struct LightSample {
     /// A sphere of the scene that cannot occlude the point (the light's own sphere, when the
     /// point is on the side facing the reference point), or −1: the shadow ray may skip it.
     int unoccluding_sphere = -1;
+    /// The light is flat (a quad): its own shapes cannot occlude the point, which lies in
+    /// their plane, from a reference point off that plane.
+    bool planar = false;
     /// The triangle of a mesh light the point is on (its index in the light's list, for an
     /// emission texture's (u, v)); 0 for the other lights.
     std::uint32_t triangle = 0;
