@@ -1,7 +1,7 @@
 // The contract of model/bsdfs/bsdf.h, checked for every type of the closed set (and the
 // lobe mix in its forms: plastic, clear and dispersive glass, all three lobes; conductors,
 // dielectrics and coated plastics smooth and rough, with and without thin films, dispersive
-// rough glass, the soap-bubble sheet): flags agree
+// rough glass, plastics with a dispersive coat, the soap-bubble sheet): flags agree
 // with what sample() produces; a non-delta sample's pdf is pdf()'s value and its weight is
 // eval/pdf; the non-delta directions follow pdf() (chi-square); eval is reciprocal (its
 // importance mode the adjoint of its radiance mode); the mean
@@ -58,6 +58,10 @@ std::vector<Case> cases() {
         {"rough dielectric with film", DielectricBsdf{constant(1.5), {0.25f}, {constant(1.38), 200.f}}, false, 1e-3},
         {"smooth coated plastic", make_plastic(constant(0.5), 1.5f, 0.f), true, 1e-3},
         {"rough coated plastic", make_plastic(constant(0.5), 1.5f, 0.2f), true, 1e-3},
+        // A coat index varying with λ: one lobe choice for all λ, so eval/pdf per lane.
+        {"smooth dispersive-coat plastic", make_plastic(constant(0.5), exact(bk7), 0.f), true, 1e-3},
+        {"rough dispersive-coat plastic", make_plastic(exact(SpectrumSource::gaussian(460, 35, 0.75, 0.05)),
+                                                       exact(SpectrumSource::cauchy(1.45, 0.1)), 0.2f), true, 1e-3},
         {"soap bubble", ThinSheetBsdf{{constant(1.33), 400.f}}, false},
     };
 }

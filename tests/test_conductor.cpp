@@ -6,7 +6,8 @@
 //     than blue); silver and aluminium reflect > 85 % across the visible;
 //   - scene files: "metal": "Au", explicit eta/k, anisotropic roughness (roughness_u,
 //     roughness_v), and the clear errors for unknown metals, anisotropic roughness given
-//     wrongly or on another type, a dispersive plastic coat, both metal and eta.
+//     wrongly or on another type, both metal and eta (a plastic's dispersive coat:
+//     test_plastic_dispersion.cpp).
 #include <gtest/gtest.h>
 
 #include <complex>
@@ -134,8 +135,6 @@ TEST(Conductor, SceneFileMaterials) {
     EXPECT_NE(error_of(R"({"type": "conductor", "metal": "Au", "k": 2})").find("both"), std::string::npos);
     EXPECT_NE(error_of(R"({"type": "conductor", "eta": 0.2})").find("not both"), std::string::npos);
     EXPECT_NE(error_of(R"({"type": "conductor", "metal": "Au", "roughness": 1.5})").find("[0, 1]"), std::string::npos);
-    EXPECT_NE(error_of(R"({"type": "plastic", "kd": 0.5, "ior": {"type": "cauchy", "a": 1.5, "b_um2": 0.004}})")
-                  .find("varies with wavelength"), std::string::npos);
     EXPECT_NE(error_of(R"({"type": "dielectric", "ior": 0.5})").find("index of refraction"), std::string::npos);
     // The error names the file, line and column of the offending value.
     EXPECT_EQ(error_of(R"({"type": "conductor", "metal": "Gold"})").rfind("test.json:2:", 0), 0u);

@@ -117,17 +117,24 @@ PlasticBsdf plastic(const SpectrumParser& p, const JsonValue& def, const std::st
     // A textured kd: the lobe choice reads the mean of its envelope (make_plastic), the same
     // number in sampling and pdf, so the estimator stays unbiased.
     Spectrum kd = reflectance(p.required(def, "kd", what), "kd");
-    float eta = 1.5f;
-    if (const JsonValue* v = def.find("ior")) {
-        const Spectrum s = p.spectrum(*v, what + " ior", SpectrumUse::Index);
-        if (!s.source().is_constant())
-            p.fail(v->pos(), what + " ior varies with wavelength; expected a constant coat index (the coat's "
-                                    "albedo table is built for one index)");
-        eta = s.eval(550.f);
-    }
+    // The coat index: any spectrum form; one varying with λ gives each wavelength its own coat
+    // (plastic.h), its albedo table built here over the index's range.
+    Spectrum eta(SpectrumSource::constant(1.5), SpectralResolution{});
+    const JsonValue* ior = def.find("ior");
+    if (ior) eta = p.spectrum(*ior, what + " ior", SpectrumUse::Index);
     // A textured roughness (an object {"texture": NAME}) reads the coat's albedo over α.
     const JsonValue* r = def.find("roughness");
-    return make_plastic(std::move(kd), eta, roughness(p, def, what, number).alpha, r && r->is_object());
+    const bool textured_roughness = r && r->is_object();
+    if (!eta.is_constant()) {
+        if (!(eta.min_value() >= 1.f && eta.max_value() <= 100.f))
+            p.fail(ior->pos(), what + " ior goes outside [1, 100] between 360 and 830 nm; expected a coat index in "
+                                      "[1, 100] at every wavelength");
+        if (textured_roughness)
+            p.fail(r->pos(), what + " has a textured roughness and an ior that varies with wavelength (its coat's "
+                                    "albedo would need a table over both); expected a constant roughness with a "
+                                    "dispersive coat, or a constant ior with a textured roughness");
+    }
+    return make_plastic(std::move(kd), eta, roughness(p, def, what, number).alpha, textured_roughness);
 }
 
 ThinSheetBsdf thin_sheet(const SpectrumParser& p, const JsonValue& def, const std::string& what,
@@ -194,6 +201,7 @@ void validate_surface_model(const Bsdf& bsdf, const std::string& who) {
     } else if (const PlasticBsdf* p = std::get_if<PlasticBsdf>(&bsdf)) {
         check_range(p->kd, who + " kd", 0, 1);
         if (!(p->eta >= 1.f && p->eta <= 100.f)) throw SceneError(who + " coat index must be in [1, 100]");
+        if (p->dispersion) check_range(p->dispersion->eta, who + " coat index", 1, 100);
         check_alpha(p->ggx, who);
     } else if (const ThinSheetBsdf* t = std::get_if<ThinSheetBsdf>(&bsdf)) {
         if (!(t->film.thickness_nm > 0.f && t->film.thickness_nm <= 1e5f))

@@ -4,6 +4,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <tuple>
 
 #include "model/bsdfs/fresnel.h"
 #include "model/bsdfs/microfacet.h"
@@ -59,6 +60,26 @@ const CoatAlbedoTable& coat_albedo_table(float eta) {
         for (int i = 0; i < CoatAlbedoTable::kRoughnessPoints; ++i)
             t->rows[static_cast<std::size_t>(i)] =
                 make_coat_albedo(static_cast<float>(i) / (CoatAlbedoTable::kRoughnessPoints - 1), eta);
+        slot = std::move(t);
+    }
+    return *slot;
+}
+
+const CoatAlbedoOverIndex& coat_albedo_over_index(float alpha, float eta_min, float eta_max) {
+    static std::mutex mutex;
+    static std::map<std::tuple<float, float, float>, std::unique_ptr<const CoatAlbedoOverIndex>> tables;
+    const std::lock_guard<std::mutex> lock(mutex);
+    std::unique_ptr<const CoatAlbedoOverIndex>& slot = tables[{alpha, eta_min, eta_max}];
+    if (!slot) {
+        auto t = std::make_unique<CoatAlbedoOverIndex>();
+        t->eta_min = eta_min, t->eta_max = eta_max;
+        const double range = double(eta_max) - eta_min;
+        // Intervals: enough for kIndexStep, at least one (two rows: at() reads a pair).
+        const int intervals = std::clamp(static_cast<int>(std::ceil(range / CoatAlbedoOverIndex::kIndexStep - 1e-6)), 1,
+                                         CoatAlbedoOverIndex::kMaxIndexRows - 1);
+        t->rows_per_unit = range > 0 ? static_cast<float>(intervals / range) : 0.f;
+        for (int r = 0; r <= intervals; ++r)
+            t->rows.push_back(make_coat_albedo(alpha, static_cast<float>(eta_min + range * r / intervals)));
         slot = std::move(t);
     }
     return *slot;
