@@ -8,6 +8,8 @@
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <cmath>
+#include <limits>
 #include <random>
 #include <string>
 #include <vector>
@@ -110,6 +112,40 @@ TEST(PartialFilms, ExactSumIsIntegerArithmetic) {
     big.add(0x1p127);  // 2^128: saturates rather than wrapping around to 0
     EXPECT_EQ(big.high, ~0ull);
     EXPECT_GT(big.value(), 3e38);
+}
+
+TEST(PartialFilms, ExactSumConversionMatchesTheFloorDefinition) {
+    // add(double) places the mantissa with integer shifts; reference_add computes the same
+    // truncation with floor and ldexp. Every binade from the subnormals to just below 2^128,
+    // the word boundaries 2^-64, 1 and 2^64 with their neighbours, and random mantissas.
+    std::vector<double> values = {0.0, -0.0, std::numeric_limits<double>::denorm_min(), 0x1p-1022, 0x1p-64,
+                                  0x1p0, 0x1p64, 0x1p127, std::nextafter(0x1p128, 0.0)};
+    for (const double edge : {0x1p-64, 0x1p-63, 1.0, 0x1p63, 0x1p64, 0x1p65})
+        values.insert(values.end(), {std::nextafter(edge, 0.0), std::nextafter(edge, 1e300)});
+    std::mt19937_64 random(17);
+    for (int e = -1074; e < 128; ++e)
+        for (int k = 0; k < 8; ++k) {
+            const double mantissa = 1.0 + static_cast<double>(random() >> 11) * 0x1p-53;  // [1, 2)
+            values.push_back(std::ldexp(mantissa, e));
+        }
+    ExactSum fast_total, reference_total;
+    int mismatches = 0;
+    for (const double v : values) {
+        ExactSum fast, reference;
+        fast.add(v);
+        reference.reference_add(v);
+        mismatches += !(fast == reference);
+        fast_total.add(v);
+        reference_total.reference_add(v);
+    }
+    EXPECT_EQ(mismatches, 0);
+    EXPECT_EQ(fast_total, reference_total);
+    // Negative control: a conversion that rounds instead of truncating differs.
+    ExactSum rounded;
+    rounded.add(ExactSum{0, 0, static_cast<std::uint64_t>(std::llround(0x1.8p-65 * 0x1p64))});
+    ExactSum truncated;
+    truncated.add(0x1.8p-65);
+    EXPECT_NE(rounded, truncated);
 }
 
 // ---- The program: --passes A:B -o part.film and 'pathtracer merge' ----

@@ -114,7 +114,7 @@ TEST(SpectralBands, SampleAddsRadianceOverPdfLanesAndWidth) {
     w.lambda = {405.f, 425.f, 470.f, 700.f};
     w.pdf = {0.01f, 0.02f, 0.005f, 0.003f};
     SampledSpectrum L;
-    L.v = {1.f, 2.f, 3.f, 4.f};
+    L.v = Float4{1.f, 2.f, 3.f, 4.f};
     film.add_sample(0, 0, L, w);
     std::vector<float> bands = film.develop_bands();
     ASSERT_EQ(bands.size(), 4u);

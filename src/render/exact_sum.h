@@ -2,6 +2,7 @@
 // floating-point sums into these at fixed sample counts, so a render split into parts (each
 // folding its own chunks) merges into the very bits of one uninterrupted render.
 #pragma once
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -16,11 +17,34 @@ struct ExactSum {
     std::uint64_t high = 0, whole = 0, fraction = 0;  ///< bits 127-64, 63-0, and 2^-1 to 2^-64
 
     /// Adds a finite v ≥ 0, truncated to a multiple of 2^-64 (truncation, not rounding, so the
-    /// conversion never carries).
+    /// conversion never carries). v = m·2^e with an integer mantissa m < 2^53: in units of
+    /// 2^-64 that is m shifted left by e + 64 (right, dropping the bits below 2^-64, when
+    /// negative), placed into the three words with integer shifts only. The film folds every
+    /// pixel at each chunk's end; as floor and ldexp (library calls) this was 2 % of cornell's
+    /// time per path at 512×512. Equal, bit for bit, to reference_add (a test compares them).
     void add(double v) {
         if (!(v < 0x1p128)) return saturate();
-        // Each step is exact: scaling by powers of two, floor, and the differences (the
-        // remainders are representable, so IEEE subtraction gives them without rounding).
+        if (!(v > 0.0)) return;  // +0 and −0 add nothing
+        const auto bits = std::bit_cast<std::uint64_t>(v);
+        const int biased = static_cast<int>(bits >> 52);  // the sign bit is 0 here
+        const std::uint64_t m = (bits & ((std::uint64_t{1} << 52) - 1)) | (biased ? std::uint64_t{1} << 52 : 0);
+        // v = m·2^(biased − 1075) for normal numbers, m·2^−1074 for subnormal ones.
+        const int shift = (biased ? biased - 1075 : -1074) + 64;
+        std::uint64_t word[3] = {0, 0, 0};  // fraction, whole, high
+        if (shift < 0) {
+            word[0] = shift > -64 ? m >> -shift : 0;
+        } else {
+            // v < 2^128 keeps shift ≤ 139: the top word holds m << (shift − 128) without overflow.
+            const int w = shift >> 6, b = shift & 63;
+            word[w] = m << b;
+            if (w < 2 && b != 0) word[w + 1] = m >> (64 - b);
+        }
+        add(ExactSum{word[2], word[1], word[0]});
+    }
+    /// The definition add(double) computes faster: each step exact (scaling by powers of two,
+    /// floor, and differences whose results are representable). Kept for the test.
+    void reference_add(double v) {
+        if (!(v < 0x1p128)) return saturate();
         const double h = std::floor(std::ldexp(v, -64));
         const double rest = v - std::ldexp(h, 64);
         const double w = std::floor(rest);

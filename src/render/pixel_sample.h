@@ -55,8 +55,10 @@ inline RngStream pixel_stream(const RenderSettings& settings, int x, int y) {
     return RngStream(settings.seed, std::uint64_t(y) * settings.width + x);
 }
 
+/// Always inlined: as a call (GCC's choice once the path loop grew) the sample came back
+/// through memory, a stall at the start of every path.
 template <class Sampler>
-inline PixelSample<Sampler> start_pixel_sample(const RngStream& stream, int x, int y, int s,
+[[gnu::always_inline]] inline PixelSample<Sampler> start_pixel_sample(const RngStream& stream, int x, int y, int s,
                                                const RenderSettings& settings, const Camera& camera) {
     Sampler rng(stream, static_cast<std::uint64_t>(s));
     seek_dimension(rng, dims::kWavelength);

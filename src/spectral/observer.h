@@ -42,8 +42,9 @@ public:
     /// The four wavelengths' look-ups are done together and each table row holds x̄ȳz̄ (one
     /// load per entry instead of three); every lane rounds as the scalar code would (cmf(),
     /// then a double multiply-add per component in wavelength order), so the sums are the same
-    /// bits as a plain loop over the wavelengths.
-    Xyz to_xyz(const SampledSpectrum& L, const SampledWavelengths& w) const {
+    /// bits as a plain loop over the wavelengths. Always inlined: the film calls it once per
+    /// path, and once the path loop grew GCC made it an out-of-line call.
+    [[gnu::always_inline]] Xyz to_xyz(const SampledSpectrum& L, const SampledWavelengths& w) const {
         Float4 lambda, pdf;
         std::memcpy(&lambda, w.lambda.data(), sizeof lambda);
         std::memcpy(&pdf, w.pdf.data(), sizeof pdf);

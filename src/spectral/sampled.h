@@ -18,21 +18,23 @@ inline constexpr float kLambdaMin = 360.f, kLambdaMax = 830.f;
 /// Spectral values at the path's wavelengths (radiance, throughput, reflectance...).
 /// Arithmetic works on all four lanes at once (core/simd.h); operator[] reads one lane.
 struct SampledSpectrum {
-    alignas(16) std::array<float, kLambdaCount> v{};
+    /// The lanes as one vector, not an array of four floats: GCC splits a small array held in
+    /// registers into four scalars (scalar replacement of aggregates) and rebuilds the vector
+    /// through memory for each vector operation, four narrow stores and a wide load that
+    /// cannot be forwarded (on cornell the path's radiance stalled so on its way to the film).
+    Float4 v{};
 
     SampledSpectrum() = default;
-    explicit SampledSpectrum(float c) { set_lanes(splat4(c)); }
-    explicit SampledSpectrum(Float4 lanes) { set_lanes(lanes); }
+    explicit SampledSpectrum(float c) : v(splat4(c)) {}
+    explicit SampledSpectrum(Float4 lanes) : v(lanes) {}
 
-    float& operator[](int i) { return v[i]; }
+    /// One lane, writable (GCC's vector types alias their element type, so the lane is
+    /// addressable as a float).
+    float& operator[](int i) { return reinterpret_cast<float*>(&v)[i]; }
     float operator[](int i) const { return v[i]; }
 
-    Float4 lanes() const {
-        Float4 r;
-        std::memcpy(&r, v.data(), sizeof r);
-        return r;
-    }
-    void set_lanes(Float4 r) { std::memcpy(v.data(), &r, sizeof r); }
+    Float4 lanes() const { return v; }
+    void set_lanes(Float4 r) { v = r; }
 
 #define SPT_ELEMENTWISE(op)                                                         \
     SampledSpectrum& operator op##=(const SampledSpectrum& b) {                     \

@@ -17,6 +17,7 @@
 ///                                 render/light_sampling.h); not every light can start one.
 #pragma once
 #include <optional>
+#include <type_traits>
 #include <variant>
 
 #include "geometry/ray.h"
@@ -69,14 +70,16 @@ inline float light_pdf_li(const Light& light, const LightSampleContext& ctx, con
 }
 
 /// Radiance leaving an area light or arriving from the environment (0 for point lights).
-inline SampledSpectrum light_emitted(const Light& light, const SampledWavelengths& lambda) {
-    return std::visit(
-        [&](const auto& l) -> SampledSpectrum {
-            using T = std::decay_t<decltype(l)>;
-            if constexpr (std::is_same_v<T, PointLight> || std::is_same_v<T, SpotLight>) return SampledSpectrum(0.f);
-            else return l.Le.sample(lambda);
-        },
-        light);
+/// A chain of index tests, inlined (as bsdf.h's visit_bsdf): std::visit compiled to an
+/// out-of-line call through a table, which the path loop made at every emitter it hit.
+template <std::size_t I = 0>
+[[gnu::always_inline]] inline SampledSpectrum light_emitted(const Light& light, const SampledWavelengths& lambda) {
+    if constexpr (I + 1 < std::variant_size_v<Light>) {
+        if (light.index() != I) return light_emitted<I + 1>(light, lambda);
+    }
+    using T = std::variant_alternative_t<I, Light>;
+    if constexpr (std::is_same_v<T, PointLight> || std::is_same_v<T, SpotLight>) return SampledSpectrum(0.f);
+    else return std::get_if<I>(&light)->Le.sample(lambda);
 }
 
 }  // namespace spt
