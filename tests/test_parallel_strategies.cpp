@@ -104,7 +104,7 @@ TEST(ParallelStrategies, WavefrontFollowsEveryPathIntegratorSetting) {
     const Variant variants[] = {
         {"bsdf sampling only", [](IntegratorSettings& s) { s.light_sampling = LightSampling::bsdf; }},
         {"light sampling only", [](IntegratorSettings& s) { s.light_sampling = LightSampling::light; }},
-        {"planes not sampled", [](IntegratorSettings& s) { s.sample_planes = false; }},
+        {"planes sampled", [](IntegratorSettings& s) { s.sample_planes = true; }},
         {"max depth 2", [](IntegratorSettings& s) { s.max_depth = 2; }},
         {"max depth 0", [](IntegratorSettings& s) { s.max_depth = 0; }},
         {"no roulette, depth 6", [](IntegratorSettings& s) { s.roulette = false, s.max_depth = 6; }},
