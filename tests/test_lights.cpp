@@ -11,6 +11,7 @@
 #include <optional>
 #include <random>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "chi2.h"
@@ -471,6 +472,118 @@ TEST(PlaneLight, IrradianceOfTiltedSurfacesMatchesViewFactor) {
         const Estimate e = irradiance(scene, 0, context({0, 0, 0}, spt::normalize(n)), 100000, 9);
         expect_irradiance(e, kPi * le * (1 + std::cos(a)) / 2, "tilt " + std::to_string(alpha_deg));
     }
+}
+
+// ---------------------------- Infinite plane seen past other planes (plane_visibility.h) ----------------------------
+
+/// cornell's planes: the emitting ceiling y = 1 and black walls x = ±1, floor y = −1 and
+/// (with_back) back z = −1; the front is open.
+Scene plane_box_scene(double le, bool with_back) {
+    Scene scene = empty_scene();
+    spt::Plane ceiling{{0, -1, 0}, -1.f};
+    ceiling.material = 0;
+    ceiling.light = scene.add_emitter(ShapeKind::plane, constant(le));
+    scene.planes.push_back(ceiling);
+    std::vector<spt::Plane> walls = {{{1, 0, 0}, -1.f}, {{-1, 0, 0}, -1.f}, {{0, 1, 0}, -1.f}};
+    if (with_back) walls.push_back({{0, 0, 1}, -1.f});
+    for (spt::Plane w : walls) {
+        w.material = 0;
+        scene.planes.push_back(w);
+    }
+    scene.finalize();
+    return scene;
+}
+
+TEST(PlaneLightPastPlanes, StripIrradianceMatchesItsViewFactor) {
+    // Walls x = ±1 leave the strip |x| ≤ 1 of the ceiling (infinite along z). A surface whose
+    // normal lies in the x-y plane, at angle β from each edge's direction, sees the fraction
+    // (sin β₊ − sin β₋)/2 of the hemisphere's projected solid angle (the 2-D view factor of
+    // an infinite strip): E = π·L·(sin β₊ − sin β₋)/2, here with every sample exact too.
+    const double le = 3.0;
+    const Scene scene = plane_box_scene(le, false);
+    for (const auto& [x, y, tilt_deg] : {std::tuple{0.0, -1.0, 0.0}, {0.5, -0.2, 0.0}, {-0.7, 0.3, 35.0},
+                                         {0.2, -1.0, -60.0}}) {
+        const double a = tilt_deg * kPi / 180;
+        const Vec3 n(float(std::sin(a)), float(std::cos(a)), 0.f);
+        // Angles of the edges (x = ±1 at height 1 − y) from n, in the x-y plane.
+        const double h = 1 - y, to_right = std::atan2(1 - x, h), to_left = std::atan2(-1 - x, h);
+        const double exact = kPi * le * (std::sin(to_right - a) - std::sin(to_left - a)) / 2;
+        const Estimate e = irradiance(scene, 0, context({float(x), float(y), 0.f}, n), 20000, 5);
+        expect_irradiance(e, exact, "strip from (" + std::to_string(x) + ", " + std::to_string(y) + ")");
+        // Every sample gives the same value but for the tries that all miss (probability (1 − A)^16).
+        EXPECT_LT(e.stderr_, 2e-3 * exact);
+    }
+}
+
+TEST(PlaneLightPastPlanes, IrradianceMatchesTheLuneSamplerWithShadowRays) {
+    // The whole box (back wall too): the sampler of what the walls leave against the plain
+    // lune sampler whose directions are traced through the scene (0 where a wall is hit
+    // first), at points of every wall and in the air, normals tilted every way.
+    const double le = 2.0;
+    const Scene box = plane_box_scene(le, true);
+    const Scene open = plane_light_scene({0, -1, 0}, -1.f, le);
+    const spt::SampledWavelengths lambda = wavelengths();
+    struct Case {
+        Vec3 p, n;
+    };
+    for (const Case& c : {Case{{0, -1, 0}, {0, 1, 0}}, Case{{-1, 0.2f, 0.5f}, {1, 0, 0}},
+                          Case{{0.3f, -0.4f, -1}, {0, 0, 1}}, Case{{0.4f, 0.6f, 2.5f}, {0.3f, -0.5f, -0.8f}},
+                          Case{{-0.9f, -0.95f, -0.9f}, {0.5f, 0.5f, 0.7f}}}) {
+        const LightSampleContext ctx = context(c.p, spt::normalize(c.n));
+        const Estimate past = irradiance(box, 0, ctx, 200000, 21);
+        std::mt19937_64 rng(22);
+        std::uniform_real_distribution<float> u(0.f, 1.f);
+        double sum = 0, sum2 = 0;
+        const int n = 400000;
+        for (int s = 0; s < n; ++s) {
+            double x = 0;
+            if (const auto ls = spt::light_sample_li(open.lights[0], ctx, lambda, u(rng), u(rng))) {
+                const std::optional<spt::Hit> hit = box.intersect({ctx.p, ls->wi, spt::kInfinity});
+                if (hit && hit->light == 0) x = ls->L[0] * spt::dot(ls->wi, ctx.ns) / ls->pdf;
+            }
+            sum += x, sum2 += x * x;
+        }
+        const double mean = sum / n, se = std::sqrt((sum2 / n - mean * mean) / n);
+        EXPECT_NEAR(past.mean, mean, 5 * std::hypot(se, past.stderr_) + 1e-5 * mean)
+            << "at (" << c.p.x << ", " << c.p.y << ", " << c.p.z << ")";
+        EXPECT_LT(past.stderr_, se) << "the walls' shadows are gone";
+    }
+}
+
+TEST(PlaneLightPastPlanes, DirectionsFollowTheirDensity) {
+    // Chi-square of the sampled directions against pdf_li (0 where a wall is found first),
+    // and the sample's density equal to pdf_li's. The wall point sits just off its wall: from
+    // a point exactly on it, the reference rays (traced from p without an offset) find the
+    // wall itself near its horizon.
+    const Scene scene = plane_box_scene(1.0, true);
+    for (const auto& [p, n] : {std::pair{Vec3(0, -1, 0), Vec3(0, 1, 0)}, std::pair{Vec3(-0.999f, 0, 0.3f), Vec3(1, 0, 0)},
+                               std::pair{Vec3(0.2f, -0.3f, 1.5f), Vec3(-0.3f, 0.6f, -0.7f)}}) {
+        const Vec3 ns = spt::normalize(n);
+        expect_directions_follow_pdf(scene, 0, context(p, ns), ns, 0.0, "box, n.y = " + std::to_string(ns.y), 2e-3,
+                                     64);
+    }
+}
+
+TEST(PlaneLightPastPlanes, NoSampleCrossesAPlane) {
+    // Every sampled direction reaches the ceiling before any wall (the shadow ray then skips
+    // the planes, LightSample::past_planes).
+    const Scene scene = plane_box_scene(1.0, true);
+    std::mt19937_64 rng(3);
+    std::uniform_real_distribution<float> u(0.f, 1.f);
+    const spt::SampledWavelengths lambda = wavelengths();
+    int sampled = 0;
+    for (int i = 0; i < 20000; ++i) {
+        const Vec3 p(u(rng) * 1.98f - 0.99f, u(rng) * 1.98f - 0.99f, u(rng) * 4 - 0.99f);
+        const Vec3 ns = spt::normalize(Vec3(u(rng) - 0.5f, u(rng) - 0.5f, u(rng) - 0.5f));
+        const auto ls = spt::light_sample_li(scene.lights[0], context(p, ns), lambda, u(rng), u(rng));
+        if (!ls) continue;
+        ++sampled;
+        ASSERT_TRUE(ls->past_planes);
+        const std::optional<spt::Hit> hit = scene.intersect({p, ls->wi, spt::kInfinity});
+        ASSERT_TRUE(hit.has_value());
+        EXPECT_EQ(hit->light, 0) << "a wall hit first from (" << p.x << ", " << p.y << ", " << p.z << ")";
+    }
+    EXPECT_GT(sampled, 10000);
 }
 
 // ---------------------------- Environment: cosine, or uniform where both sides matter ----------------------------

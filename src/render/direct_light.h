@@ -65,7 +65,13 @@ struct SpotLightRay {
 struct ShadowRay {
     Ray ray;
     ShadowSkip skip;
+    bool past_planes = false;  ///< it crosses no infinite plane: Scene::occluded_past_planes
 };
+/// Whether anything blocks a shadow ray (at shutter time `time`).
+[[gnu::always_inline]] inline bool shadow_blocked(const Scene& scene, const ShadowRay& shadow, float time) {
+    return shadow.past_planes ? scene.occluded_past_planes(shadow.ray, shadow.skip, time)
+                              : scene.occluded(shadow.ray, shadow.skip, time);
+}
 [[gnu::always_inline]] inline ShadowRay shadow_ray_to(const Scene& scene, const Hit& hit, const LightSample& ls,
                                                       int light) {
     if (ls.unoccluding_sphere >= 0 && !scene.uses_bvh())
@@ -76,7 +82,7 @@ struct ShadowRay {
         // Short of the plane by a relative margin far above the origin's offset.
         Ray shadow = spawn_ray(hit, ls.wi);
         shadow.t_max = ls.plane_distance * (1.f - 1e-4f);
-        return {shadow, {}};
+        return {shadow, {}, ls.past_planes};
     }
     if (ls.planar && !scene.uses_bvh())
         // A quad's own triangles are not tested: only the origin needs its offset, and the ray
@@ -92,6 +98,7 @@ struct ShadowRay {
 struct AreaLightRay {
     Ray shadow;
     ShadowSkip skip;
+    bool past_planes;
     SampledSpectrum f_cos, L;
     Vec3 wi;
     float pdf_light;  ///< solid angle, the light's choice included
@@ -113,7 +120,7 @@ template <bool kTextured>
     const SampledSpectrum f_cos = bsdf_eval(bsdf, wo, ls->wi, hit.ns, lambda, TransportMode::radiance);
     if (f_cos.is_zero()) return std::nullopt;
     const ShadowRay shadow = shadow_ray_to(scene, hit, *ls, index);
-    return AreaLightRay{shadow.ray, shadow.skip, f_cos, ls->L, ls->wi, choice * ls->pdf};
+    return AreaLightRay{shadow.ray, shadow.skip, shadow.past_planes, f_cos, ls->L, ls->wi, choice * ls->pdf};
 }
 
 /// What the sample adds through a clear shadow ray, weighted against BSDF sampling by the

@@ -70,7 +70,7 @@ template <bool kTextured>
     if (f_cos.is_zero()) return SampledSpectrum(0.f);
     ++stats.rays;
     const ShadowRay shadow = shadow_ray_to(scene, hit, *ls, index);
-    if (scene.occluded(shadow.ray, shadow.skip, time)) return SampledSpectrum(0.f);
+    if (shadow_blocked(scene, shadow, time)) return SampledSpectrum(0.f);
     const float pdf_light = choice * ls->pdf;
     if (!mis) return f_cos * ls->L / pdf_light;
     const float pdf_bsdf = bsdf_pdf(bsdf, wo, ls->wi, hit.ns, lambda.lambda[0]);

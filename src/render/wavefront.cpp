@@ -38,6 +38,7 @@ struct Wavefront::ShadowRay {
     Ray ray;
     ShadowSkip skip;
     SampledSpectrum contribution;
+    bool past_planes = false;  ///< as spt::ShadowRay::past_planes
 };
 
 /// The light samples of one path's vertex: its point and spot lights' rays, then (area) the
@@ -246,7 +247,8 @@ void Wavefront::shade(int begin, int end, ChunkQueues& out, PathStats& stats) {
             if (const std::optional<AreaLightRay> r =
                     area_light_ray<false>(scene, choices, bsdf, hit, ctx, wo, lambda, ul, ul1, ul2)) {
                 const bool mis = settings.light_sampling == LightSampling::mis;
-                out.rays.push_back({r->shadow, r->skip, area_light_contribution(*r, bsdf, hit, wo, lambda, mis)});
+                out.rays.push_back({r->shadow, r->skip, area_light_contribution(*r, bsdf, hit, wo, lambda, mis),
+                                    r->past_planes});
                 record.area_ray = true;
             }
         }
@@ -298,7 +300,8 @@ void Wavefront::trace_shadow_rays(const ChunkQueues& in) {
             path.L += path.beta_nee * Ld;
         }
         if (record.area) {
-            const bool clear = record.area_ray && !m_scene.occluded(ray->ray, ray->skip, path.time);
+            const bool clear = record.area_ray && !shadow_blocked(m_scene, {ray->ray, ray->skip, ray->past_planes},
+                                                                 path.time);
             path.L += path.beta_nee * (clear ? ray->contribution : SampledSpectrum(0.f));
         }
     }

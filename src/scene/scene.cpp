@@ -523,6 +523,18 @@ void Scene::finalize_lights() {
         require(l != nullptr, "an emitting plane's light is not a plane light");
         l->plane = p;
         l->scene_radius = bounds_radius;
+        // The other planes hide what lies beyond them (plane_light.h); planes that rays pass
+        // (media interfaces) hide nothing.
+        l->blocker_count = 0;
+        l->blocks_every_plane = true;
+        for (const Plane& other : planes) {
+            if (&other == &p) continue;
+            if (other.material == interface_material || l->blocker_count == VisibleLune::kMaxBlockers) {
+                l->blocks_every_plane = false;
+                continue;
+            }
+            l->blockers[static_cast<std::size_t>(l->blocker_count++)] = {other.normal, other.offset};
+        }
     }
     auto attach_quadric = [&](const auto& shape, const char* what) {
         if (shape.light < 0) return;

@@ -226,6 +226,13 @@ struct Scene {
         return occluded_few(ray, skip);
     }
 
+    /// occluded() for a ray known to cross no infinite plane before t_max (a plane light's
+    /// sample, LightSample::past_planes): the finite shapes only.
+    bool occluded_past_planes(const Ray& ray, ShadowSkip skip = {}, float time = 0.f) const {
+        if (m_out_of_line) [[unlikely]] return occluded_out_of_line(ray, skip, time);
+        return occluded_few(ray, skip);
+    }
+
     /// Makes the spheres from index `first_sphere` on and the triangles from `first_triangle`
     /// on (the shapes the loader just added) one moving shape with `motion`: they leave the
     /// static arrays. Call before finalize().

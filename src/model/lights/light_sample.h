@@ -26,6 +26,9 @@ struct LightSample {
     /// An infinite plane: the shadow ray leaves along wi and must be clear for this distance
     /// (p is not needed); 0 for the other lights.
     float plane_distance = 0.f;
+    /// An infinite plane's sample that crosses no other infinite plane on its way (the
+    /// sampler drew it from the directions they leave open): the shadow ray may skip planes.
+    bool past_planes = false;
     bool delta = false;     ///< a point light (no MIS: no other strategy finds it)
     /// A sphere of the scene that cannot occlude the point (the light's own sphere, when the
     /// point is on the side facing the reference point), or −1: the shadow ray may skip it.

@@ -12,15 +12,37 @@
 // leave noise. Where both sides gather light (a transmitting BSDF), directions are
 // cosine-weighted about m instead; every one reaches the plane, the density falling to 0
 // towards its horizon, where it recedes. It cannot start light subpaths (no area to sample).
+//
+// The scene's other infinite planes (the Cornell walls) hide most of the lune: seen from the
+// floor of the box, two thirds of its directions end on a wall, and the lune sampler's
+// shadow rays found them blocked. With such planes (`blockers`), the sampler draws from the
+// lune minus what they hide (plane_visibility.h: a convex spherical polygon whose projected
+// solid angle Φ is exact), still ∝ cos θ: it draws lune directions until one lies in the
+// polygon, at most kMaxTries times (each try accepted with probability A = Φ/(π(1 + c)/2)),
+// so a direction of the polygon has density
+//     pdf(ω) = cos θ / Φ · (1 − (1 − A)^kMaxTries)
+// and no sample is returned with probability (1 − A)^kMaxTries (then the estimate is 0: the
+// density accounts for it, so the estimator stays unbiased). A diffuse surface's sample then
+// gives Le·ρ·Φ/π (divided by that factor) for every direction: only the finite shapes' shadows
+// (and the tries' cap) leave noise. The first try takes (u1, u2) (stratified by the sampler);
+// later tries hash them into new numbers (a deterministic function of the first: a
+// pseudo-random stream, as good as independent for a hash with full avalanche). When every
+// other plane blocks, no sampled direction crosses one on its way to this plane, so the
+// shadow ray tests only the finite shapes (LightSample::past_planes).
 #pragma once
 #include <algorithm>
 #include <cmath>
 #include <optional>
 
+#include <array>
+#include <bit>
+#include <cstdint>
+
 #include "core/frame.h"
 #include "core/sampling.h"
 #include "geometry/plane.h"
 #include "model/lights/light_sample.h"
+#include "model/lights/plane_visibility.h"
 #include "spectral/spectrum.h"
 
 namespace spt {
@@ -31,6 +53,15 @@ struct PlaneLight {
     /// The radius of the scene's bounding sphere: the plane's power for light selection is
     /// what it sends into a disk of that radius, π·Le·πR² (it has no finite power).
     float scene_radius = 1.f;
+    /// The scene's other infinite planes that hide what lies beyond them (Scene::finalize
+    /// fills them; at most VisibleLune::kMaxBlockers); none: the lune sampler alone.
+    std::array<PlaneBlocker, VisibleLune::kMaxBlockers> blockers{};
+    int blocker_count = 0;
+    /// True when the blockers are every plane of the scene but this one: then no sampled
+    /// direction crosses a plane before reaching this one.
+    bool blocks_every_plane = false;
+    /// Tries of the sampler of the lune minus what the blockers hide.
+    static constexpr int kMaxTries = 16;
 
     float power() const { return kPi * kPi * scene_radius * scene_radius * mean_over_visible(Le); }
 
@@ -64,22 +95,26 @@ struct PlaneLight {
         } else {
             const float c = dot(ctx.ns, m);
             if (!(1.f + c > kMinLune)) return std::nullopt;
-            // Tangent towards m (any tangent when m is along ns: then the lune is the whole
-            // hemisphere and the row stretch is 2 with offset −c·w = −w, or the lune is empty).
-            Vec3 t = m - ctx.ns * c;
-            const float t_len = length(t);
-            t = t_len > 1e-6f ? t / t_len : Frame(ctx.ns).s;
-            const Vec3 b = cross(ctx.ns, t);
-            // A point uniform in the half disk x ≥ 0 (polar), stretched along its row.
-            const float r = std::sqrt(u1), phi = kPi * (u2 - 0.5f);
-            const float y = r * std::sin(phi), x_half = r * std::cos(phi);
-            const float w = safe_sqrt(1.f - y * y);
-            const float x = std::clamp(-c * w + (1.f + c) * x_half, -w, w);
-            const float z = safe_sqrt(1.f - x * x - y * y);
-            ls.wi = normalize(t * x + b * y + ctx.ns * z);
-            const float cos_n = dot(ls.wi, ctx.ns);
-            if (!(cos_n > 0.f) || !(dot(ls.wi, m) > 0.f)) return std::nullopt;
-            ls.pdf = lune_pdf(cos_n, c);
+            if (blocker_count == 0) {
+                ls.wi = lune_direction(ctx.ns, m, c, u1, u2);
+                const float cos_n = dot(ls.wi, ctx.ns);
+                if (!(cos_n > 0.f) || !(dot(ls.wi, m) > 0.f)) return std::nullopt;
+                ls.pdf = lune_pdf(cos_n, c);
+            } else {
+                const VisibleLune visible(ctx.p, ctx.ns, m, std::fabs(s), blockers.data(), blocker_count);
+                if (visible.empty()) return std::nullopt;
+                float v1 = u1, v2 = u2, cos_n = 0.f;
+                bool found = false;
+                for (int k = 0; k < kMaxTries && !found; ++k) {
+                    if (k > 0) retry_numbers(u1, u2, k, v1, v2);
+                    ls.wi = lune_direction(ctx.ns, m, c, v1, v2);
+                    cos_n = dot(ls.wi, ctx.ns);
+                    found = cos_n > 0.f && dot(ls.wi, m) > 0.f && visible.contains(ls.wi);
+                }
+                if (!found) return std::nullopt;
+                ls.pdf = visible_pdf(cos_n, c, visible.area());
+                ls.past_planes = blocks_every_plane;
+            }
         }
         // The distance along wi: |side| / cos θ to the plane (the shadow ray needs no point on it).
         ls.plane_distance = static_cast<float>(std::fabs(s) / dot(ls.wi, m));
@@ -89,11 +124,54 @@ struct PlaneLight {
     }
 
     float pdf_li(const LightSampleContext& ctx, const Vec3& wi) const {
-        const Vec3 m = towards(ctx.p);
+        const double s = side(ctx.p);
+        if (s == 0.0) return 0.f;
+        const Vec3 m = s > 0.0 ? -plane.normal : plane.normal;
         if (ctx.both_sides) return cosine_hemisphere_pdf(dot(wi, m));
         const float c = dot(ctx.ns, m), cos_n = dot(wi, ctx.ns);
         if (!(1.f + c > kMinLune) || !(cos_n > 0.f) || !(dot(wi, m) > 0.f)) return 0.f;
-        return lune_pdf(cos_n, c);
+        if (blocker_count == 0) return lune_pdf(cos_n, c);
+        const VisibleLune visible(ctx.p, ctx.ns, m, std::fabs(s), blockers.data(), blocker_count);
+        if (visible.empty() || !visible.contains(wi)) return 0.f;
+        return visible_pdf(cos_n, c, visible.area());
+    }
+
+    /// A direction of the lune, cosine-weighted about ns (see the top of the file).
+    static Vec3 lune_direction(const Vec3& ns, const Vec3& m, float c, float u1, float u2) {
+        // Tangent towards m (any tangent when m is along ns: then the lune is the whole
+        // hemisphere and the row stretch is 2 with offset −c·w = −w, or the lune is empty).
+        Vec3 t = m - ns * c;
+        const float t_len = length(t);
+        t = t_len > 1e-6f ? t / t_len : Frame(ns).s;
+        const Vec3 b = cross(ns, t);
+        // A point uniform in the half disk x ≥ 0 (polar), stretched along its row.
+        const float r = std::sqrt(u1), phi = kPi * (u2 - 0.5f);
+        const float y = r * std::sin(phi), x_half = r * std::cos(phi);
+        const float w = safe_sqrt(1.f - y * y);
+        const float x = std::clamp(-c * w + (1.f + c) * x_half, -w, w);
+        const float z = safe_sqrt(1.f - x * x - y * y);
+        return normalize(t * x + b * y + ns * z);
+    }
+
+    /// Density of the sampler of the lune minus what the blockers hide, for a direction in
+    /// it: cos θ/Φ times the chance that one of the tries lands in it.
+    static float visible_pdf(float cos_n, float c, float projected_area) {
+        const float accept = std::min(1.f, projected_area / (0.5f * kPi * (1.f + c)));
+        const float miss_all = std::pow(1.f - accept, float(kMaxTries));
+        return cos_n / projected_area * (1.f - miss_all);
+    }
+
+    /// Try k's two numbers, hashed from the first try's (murmur3's 32-bit finaliser: each
+    /// output bit depends on every input bit).
+    static void retry_numbers(float u1, float u2, int k, float& v1, float& v2) {
+        auto mix = [](std::uint32_t h) {
+            h ^= h >> 16, h *= 0x85ebca6bu, h ^= h >> 13, h *= 0xc2b2ae35u, h ^= h >> 16;
+            return h;
+        };
+        const std::uint32_t seed = mix(std::bit_cast<std::uint32_t>(u1) ^ mix(std::bit_cast<std::uint32_t>(u2) +
+                                                                              0x9e3779b9u * std::uint32_t(k)));
+        v1 = float(mix(seed) >> 8) * 0x1p-24f;
+        v2 = float(mix(seed ^ 0x68e31da4u) >> 8) * 0x1p-24f;
     }
 
     /// Solid-angle density of the lune sampler: cos θ over the lune's projected area π(1 + c)/2.

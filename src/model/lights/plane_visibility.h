@@ -1,0 +1,166 @@
+// The directions from a point that can reach an emitting infinite plane past the scene's other
+// infinite planes (the Cornell walls), on the side a surface gathers light on: a convex
+// spherical polygon, and its projected solid angle.
+//
+// From p (distance s > 0 from the emitting plane, m its unit normal turned towards it), the
+// direction ω with ω·m > 0 meets the plane at x = p + ω·s/(ω·m). Another plane Q (unit
+// normal q turned towards p, p at distance d > 0 from it) hides x iff x lies beyond Q, since
+// the segment p–x then crosses it. q·x − offset = d + s·(q·ω)/(ω·m), and ω·m > 0, so x is
+// seen past Q iff ω·(d·m + s·q) > 0: one hemisphere of directions per plane. With the surface's
+// own hemisphere ω·ns > 0 and the plane's ω·m > 0 (their intersection is the lune of
+// plane_light.h), the directions left are an intersection of hemispheres: a convex spherical
+// polygon, found by clipping the lune (Sutherland–Hodgman on the sphere: a great circle cuts
+// an arc where the signed distances of its ends change sign, at the positive combination
+// a·|d_b| + b·|d_a|).
+//
+// Its projected solid angle (Lambert 1760; Arvo 1995, "Applications of irradiance tensors",
+// eq. 8) is Φ = ½ Σ_edges θ_e (ns·u_e), θ_e the edge's arc and u_e the unit normal of its
+// great circle on the polygon's side, exact for any convex polygon on one side of ns: the
+// irradiance a unit radiance gives through it. The lune alone has Φ = π(1 + c)/2, c = ns·m.
+//
+// Edges are kept below 180°: a lune's two vertices are antipodal, so it starts as four
+// vertices 90° apart, and a new edge longer than 90° gets its point 90° along (both halves
+// then shorter than 180°, where the cross product names the great circle).
+//
+// Accuracy: the polygon's vertices and Φ are float (relative error ~1e-6); where ns is within
+// 1e-4 of m the lune is taken as ns's hemisphere, whose extra sliver (ω·m < 0) holds at most
+// ~1e-4 of Φ.
+#pragma once
+#include <cmath>
+#include <cstdint>
+
+#include "core/frame.h"
+#include "core/math.h"
+#include "core/vec3.h"
+
+namespace spt {
+
+/// A plane that hides what lies beyond it: unit normal and offset (dot(normal, x) = offset).
+struct PlaneBlocker {
+    Vec3 normal;
+    float offset = 0.f;
+};
+
+class VisibleLune {
+public:
+    static constexpr int kMaxBlockers = 8;
+    static constexpr int kMaxVertices = 4 + 2 * (kMaxBlockers + 1);
+
+    /// p at distance s > 0 from the emitting plane, m its normal towards it, ns the gathering
+    /// side's normal (1 + ns·m > 0); blockers[0, count) the other planes (at most kMaxBlockers).
+    VisibleLune(const Vec3& p, const Vec3& ns, const Vec3& m, double s, const PlaneBlocker* blockers, int count)
+        : m_ns(ns) {
+        make_lune(ns, m);
+        m_g[m_constraints++] = m;
+        for (int i = 0; i < count && m_vertices >= 3; ++i) {
+            const PlaneBlocker& b = blockers[i];
+            const double d = double(b.normal.x) * p.x + double(b.normal.y) * p.y + double(b.normal.z) * p.z -
+                             b.offset;
+            // p on Q (its own surface): rays leave Q, it hides nothing.
+            if (std::fabs(d) <= 1e-5 * std::max(1.0, std::fabs(double(b.offset)))) continue;
+            const Vec3 q = d > 0.0 ? b.normal : -b.normal;
+            // Parallel to the emitting plane (cornell's floor): g is along ±m; behind p or
+            // beyond the plane it hides nothing, between them everything.
+            if (const float qm = dot(q, m); std::fabs(qm) >= 1.f - 1e-7f) {
+                if (qm > 0.f || std::fabs(d) > s) continue;
+                m_vertices = 0;
+                break;
+            }
+            const Vec3 g = m * static_cast<float>(std::fabs(d)) + q * static_cast<float>(s);
+            const float g_len = length(g);
+            if (!(g_len > 0.f)) continue;
+            const Vec3 gu = g / g_len;
+            m_g[m_constraints++] = gu;
+            clip(gu);
+        }
+        if (m_vertices < 3) m_vertices = 0;
+        m_projected_area = m_vertices ? projected_area() : 0.f;
+    }
+
+    bool empty() const { return !(m_projected_area > 0.f); }
+    /// Φ: ∫ over the polygon of ω·ns dω.
+    float projected_area() const;
+    /// True if ω (unit, ω·ns > 0 assumed) is in the polygon: on the plane's side and past every blocker.
+    bool contains(const Vec3& w) const {
+        for (int i = 0; i < m_constraints; ++i)
+            if (!(dot(w, m_g[i]) >= 0.f)) return false;
+        return true;
+    }
+    float area() const { return m_projected_area; }
+    int vertex_count() const { return m_vertices; }
+    const Vec3& vertex(int i) const { return m_v[i]; }
+
+private:
+    /// The lune as four vertices 90° apart, counter-clockwise about the inside (v_i × v_{i+1}
+    /// points into it): b, the point of ns's horizon nearest m, −b, the point of m's horizon
+    /// nearest ns, with b = m × ns / |m × ns|.
+    void make_lune(const Vec3& ns, const Vec3& m) {
+        const Vec3 mxn = cross(m, ns);
+        const float len = length(mxn);
+        if (len < 1e-4f) {  // m along ns: ns's whole hemisphere (the caller excludes m = −ns)
+            const Frame f(ns);
+            m_v[0] = f.s, m_v[1] = f.t, m_v[2] = -f.s, m_v[3] = -f.t;
+        } else {
+            const Vec3 b = mxn / len;
+            m_v[0] = b;
+            m_v[1] = normalize(cross(ns, b));  // ns's horizon, on m's side
+            m_v[2] = -b;
+            m_v[3] = normalize(cross(b, m));   // m's horizon, on ns's side
+        }
+        m_vertices = 4;
+    }
+
+    /// Keeps the part with ω·g ≥ 0.
+    void clip(const Vec3& g) {
+        Vec3 out[kMaxVertices + 2];
+        int n = 0, exit = -1;
+        for (int i = 0; i < m_vertices; ++i) {
+            const Vec3& a = m_v[i];
+            const Vec3& b = m_v[(i + 1) % m_vertices];
+            const float da = dot(a, g), db = dot(b, g);
+            const bool in_a = da >= 0.f, in_b = db >= 0.f;
+            if (in_a) out[n++] = a;
+            if (in_a != in_b) {
+                if (in_a) exit = n;
+                out[n++] = normalize(a * std::fabs(db) + b * std::fabs(da));
+            }
+        }
+        if (exit >= 0 && n >= 2) {
+            // The new edge runs from the exit point counter-clockwise about g to the entry
+            // point; past 90° it gets the point 90° along, g × exit.
+            const Vec3 x = out[exit], e = out[(exit + 1) % n];
+            if (dot(x, e) < 0.f) {
+                for (int j = n; j > exit + 1; --j) out[j] = out[j - 1];
+                out[exit + 1] = normalize(cross(g, x));
+                ++n;
+            }
+        }
+        m_vertices = 0;
+        for (int i = 0; i < n; ++i)  // drop repeated vertices (a corner on the circle)
+            if (length_squared(cross(out[i], out[(i + 1) % n])) > 1e-14f || dot(out[i], out[(i + 1) % n]) < 0.f)
+                m_v[m_vertices++] = out[i];
+    }
+
+    Vec3 m_ns;
+    Vec3 m_v[kMaxVertices + 2];
+    int m_vertices = 0;
+    Vec3 m_g[kMaxBlockers + 1];
+    int m_constraints = 0;
+    float m_projected_area = 0.f;
+};
+
+inline float VisibleLune::projected_area() const {
+    double sum = 0.0;
+    for (int i = 0; i < m_vertices; ++i) {
+        const Vec3& a = m_v[i];
+        const Vec3& b = m_v[(i + 1) % m_vertices];
+        const Vec3 axb = cross(a, b);
+        const float sin_t = length(axb);
+        const float theta = std::atan2(sin_t, dot(a, b));
+        const float ratio = sin_t > 1e-7f ? theta / sin_t : 1.f;  // θ / sin θ → 1
+        sum += double(ratio) * dot(axb, m_ns);
+    }
+    return static_cast<float>(0.5 * sum);
+}
+
+}  // namespace spt
