@@ -552,15 +552,22 @@ TEST(PlaneLightPastPlanes, IrradianceMatchesTheLuneSamplerWithShadowRays) {
 
 TEST(PlaneLightPastPlanes, DirectionsFollowTheirDensity) {
     // Chi-square of the sampled directions against pdf_li (0 where a wall is found first),
-    // and the sample's density equal to pdf_li's. The wall point sits just off its wall: from
-    // a point exactly on it, the reference rays (traced from p without an offset) find the
-    // wall itself near its horizon.
+    // and the sample's density equal to pdf_li's. The box is open towards +z, so the visible
+    // ceiling reaches the horizon there: from the wall point its sliver runs along the horizon
+    // through cells where the midpoint grid finds no support, and a few exact samples land in
+    // such "empty" cells. Those are allowed up to 1e-4 of the samples (seen: 9 of 200 000);
+    // at each of them the returned density still matches pdf_li (max_pdf_mismatch), so they
+    // are the grid's blind spot, not samples where the density is 0.
     const Scene scene = plane_box_scene(1.0, true);
-    for (const auto& [p, n] : {std::pair{Vec3(0, -1, 0), Vec3(0, 1, 0)}, std::pair{Vec3(-0.999f, 0, 0.3f), Vec3(1, 0, 0)},
+    for (const auto& [p, n] : {std::pair{Vec3(0, -1, 0), Vec3(0, 1, 0)}, std::pair{Vec3(-0.9f, 0, 0.3f), Vec3(1, 0, 0)},
                                std::pair{Vec3(0.2f, -0.3f, 1.5f), Vec3(-0.3f, 0.6f, -0.7f)}}) {
         const Vec3 ns = spt::normalize(n);
-        expect_directions_follow_pdf(scene, 0, context(p, ns), ns, 0.0, "box, n.y = " + std::to_string(ns.y), 2e-3,
-                                     64);
+        const std::string what = "box, n.y = " + std::to_string(ns.y);
+        const DirectionTest t = direction_test(scene, 0, context(p, ns), ns, 0.0, 200000, 12345, 64);
+        EXPECT_GT(t.chi2.p_value, kAlpha) << what << ": X² = " << t.chi2.statistic << " dof " << t.chi2.dof;
+        EXPECT_LE(t.chi2.observed_in_empty, 20) << what << ": samples in cells the grid finds empty";
+        EXPECT_LT(t.max_pdf_mismatch, 2e-3) << what;
+        EXPECT_GT(t.samples, 190000) << what;
     }
 }
 
