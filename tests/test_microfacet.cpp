@@ -372,9 +372,9 @@ TEST(Ggx, AnisotropicConductorIsReciprocalAndLosesOnlyTheSingleScatteringShare) 
 
 TEST(CoatAlbedoTable, RowsAreTheOneRoughnessTablesBitForBit) {
     // A plastic whose roughness texture gives a row's α renders exactly as the constant.
-    const CoatAlbedoTable& t = coat_albedo_table(1.5f);
+    const CoatAlbedoRows& t = coat_albedo_table(1.5f);
     for (int i : {0, 1, 8, 16, 31, 32}) {
-        const float alpha = float(i) / (CoatAlbedoTable::kRoughnessPoints - 1);
+        const float alpha = float(i) / (kCoatRoughnessRows - 1);
         const CoatAlbedo c = make_coat_albedo(alpha, 1.5f);
         for (int j = 0; j < CoatAlbedo::kPoints; ++j) {
             const float mu = float(j) / (CoatAlbedo::kPoints - 1);
@@ -392,9 +392,9 @@ TEST(CoatAlbedoTable, BetweenRowsWithinTheStatedError) {
     // 1.3e-2 below; 7e-2 at grazing cosines; 7e-4 in E_avg).
     double above = 0, below = 0, grazing = 0, average = 0;
     for (float eta : {1.2f, 1.5f, 2.5f}) {
-        const CoatAlbedoTable& t = coat_albedo_table(eta);
-        for (int i = 0; i + 1 < CoatAlbedoTable::kRoughnessPoints; ++i) {
-            const float alpha = (i + 0.5f) / (CoatAlbedoTable::kRoughnessPoints - 1);
+        const CoatAlbedoRows& t = coat_albedo_table(eta);
+        for (int i = 0; i + 1 < kCoatRoughnessRows; ++i) {
+            const float alpha = (i + 0.5f) / (kCoatRoughnessRows - 1);
             const CoatAlbedo c = make_coat_albedo(alpha, eta);
             for (int j = 0; j < CoatAlbedo::kPoints; ++j) {
                 const float mu = float(j) / (CoatAlbedo::kPoints - 1);

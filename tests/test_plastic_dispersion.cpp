@@ -1,5 +1,5 @@
 // The plastic whose coat index varies with wavelength (model/bsdfs/plastic.h):
-//   - the coat albedo table over the index (coat_albedo.h, CoatAlbedoOverIndex) is at its rows
+//   - the coat albedo table over the index (coat_albedo.h, coat_albedo_over_index) is at its rows
 //     the constant coat's table bit for bit, and between rows within its stated error (6e-4 in
 //     E, 1e-5 in E_avg), smooth and rough, at low, middle and high indices;
 //   - eval at each wavelength equals eval of the constant-index plastic of index η(λ), within
@@ -48,10 +48,10 @@ TEST(CoatAlbedoOverIndex, RowsExactAndBetweenRowsWithinTheStatedError) {
     float worst_alpha = 0, worst_eta = 0, worst_mu = 0;
     for (float alpha : {0.f, 0.05f, 0.3f, 1.f})
         for (auto [lo, hi] : {std::pair{1.05f, 1.09f}, std::pair{1.5f, 1.55f}, std::pair{2.9f, 3.f}}) {
-            const CoatAlbedoOverIndex& t = coat_albedo_over_index(alpha, lo, hi);
+            const CoatAlbedoRows& t = coat_albedo_over_index(alpha, lo, hi);
             ASSERT_GE(t.rows.size(), 2u);
             const int intervals = static_cast<int>(t.rows.size()) - 1;
-            EXPECT_LE((hi - lo) / intervals, CoatAlbedoOverIndex::kIndexStep * (1 + 1e-5f));
+            EXPECT_LE((hi - lo) / intervals, kCoatIndexStep * (1 + 1e-5f));
             for (int r = 0; r <= intervals; ++r) {
                 const float eta = static_cast<float>(double(lo) + (double(hi) - lo) * r / intervals);
                 const CoatAlbedo row = make_coat_albedo(alpha, eta);

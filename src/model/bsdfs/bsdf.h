@@ -84,7 +84,7 @@ inline float bsdf_pdf(const Bsdf& bsdf, const Vec3& wo, const Vec3& wi, const Ve
     if (const DiffuseBsdf* diffuse = std::get_if<DiffuseBsdf>(&bsdf)) [[likely]]
         return diffuse->sample(wo, n, lambda, u1, u2);
     return visit_bsdf(bsdf, [&](const auto& b) -> std::optional<BsdfSample> {
-        if constexpr (std::is_same_v<std::decay_t<decltype(b)>, DiffuseBsdf>) return b.sample(wo, n, lambda, u1, u2);
+        if constexpr (std::is_same_v<std::decay_t<decltype(b)>, DiffuseBsdf>) __builtin_unreachable();  // above
         else return b.sample(wo, n, lambda, u_lobe, u1, u2, mode);
     });
 }

@@ -50,33 +50,33 @@ CoatAlbedo make_coat_albedo(float alpha, float eta) {
     return c;
 }
 
-const CoatAlbedoTable& coat_albedo_table(float eta) {
+const CoatAlbedoRows& coat_albedo_table(float eta) {
     static std::mutex mutex;
-    static std::map<float, std::unique_ptr<const CoatAlbedoTable>> tables;
+    static std::map<float, std::unique_ptr<const CoatAlbedoRows>> tables;
     const std::lock_guard<std::mutex> lock(mutex);
-    std::unique_ptr<const CoatAlbedoTable>& slot = tables[eta];
+    std::unique_ptr<const CoatAlbedoRows>& slot = tables[eta];
     if (!slot) {
-        auto t = std::make_unique<CoatAlbedoTable>();
-        for (int i = 0; i < CoatAlbedoTable::kRoughnessPoints; ++i)
-            t->rows[static_cast<std::size_t>(i)] =
-                make_coat_albedo(static_cast<float>(i) / (CoatAlbedoTable::kRoughnessPoints - 1), eta);
+        auto t = std::make_unique<CoatAlbedoRows>();
+        t->first = 0.f, t->last = 1.f, t->rows_per_unit = kCoatRoughnessRows - 1;
+        for (int i = 0; i < kCoatRoughnessRows; ++i)
+            t->rows.push_back(make_coat_albedo(static_cast<float>(i) / (kCoatRoughnessRows - 1), eta));
         slot = std::move(t);
     }
     return *slot;
 }
 
-const CoatAlbedoOverIndex& coat_albedo_over_index(float alpha, float eta_min, float eta_max) {
+const CoatAlbedoRows& coat_albedo_over_index(float alpha, float eta_min, float eta_max) {
     static std::mutex mutex;
-    static std::map<std::tuple<float, float, float>, std::unique_ptr<const CoatAlbedoOverIndex>> tables;
+    static std::map<std::tuple<float, float, float>, std::unique_ptr<const CoatAlbedoRows>> tables;
     const std::lock_guard<std::mutex> lock(mutex);
-    std::unique_ptr<const CoatAlbedoOverIndex>& slot = tables[{alpha, eta_min, eta_max}];
+    std::unique_ptr<const CoatAlbedoRows>& slot = tables[{alpha, eta_min, eta_max}];
     if (!slot) {
-        auto t = std::make_unique<CoatAlbedoOverIndex>();
-        t->eta_min = eta_min, t->eta_max = eta_max;
+        auto t = std::make_unique<CoatAlbedoRows>();
+        t->first = eta_min, t->last = eta_max;
         const double range = double(eta_max) - eta_min;
-        // Intervals: enough for kIndexStep, at least one (two rows: at() reads a pair).
-        const int intervals = std::clamp(static_cast<int>(std::ceil(range / CoatAlbedoOverIndex::kIndexStep - 1e-6)), 1,
-                                         CoatAlbedoOverIndex::kMaxIndexRows - 1);
+        // Intervals: enough for kCoatIndexStep, at least one (two rows: at() reads a pair).
+        const int intervals = std::clamp(static_cast<int>(std::ceil(range / kCoatIndexStep - 1e-6)), 1,
+                                         kCoatMaxIndexRows - 1);
         t->rows_per_unit = range > 0 ? static_cast<float>(intervals / range) : 0.f;
         for (int r = 0; r <= intervals; ++r)
             t->rows.push_back(make_coat_albedo(alpha, static_cast<float>(eta_min + range * r / intervals)));

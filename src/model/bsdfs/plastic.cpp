@@ -94,7 +94,7 @@ SampledSpectrum PlasticBsdf::eval(const Vec3& wo, const Vec3& wi, const Vec3& n,
 }
 
 SampledSpectrum PlasticBsdf::eval_dispersive(const Vec3& o, const Vec3& i, const SampledWavelengths& lambda) const {
-    const CoatAlbedoOverIndex& t = *dispersion->table;
+    const CoatAlbedoRows& t = *dispersion->table;
     // The rough coat's D·G2/(4 cos θo) is the same at every λ; only F depends on η(λ).
     float om = 0.f, dg = 0.f;
     if (!ggx.is_smooth()) {

@@ -19,7 +19,7 @@
 // A coat whose index varies with λ (a Cauchy, Sellmeier or catalogue glass): each wavelength λ
 // of the sample sees its own coat, index η(λ): the coat's lobe uses F(η(λ)), the diffuse term
 // E(μ; η(λ)) and E_avg(η(λ)), read from a table over η at the material's α (coat_albedo.h,
-// CoatAlbedoOverIndex: rows over the material's own index range, ≤ 6e-4 from the direct E),
+// coat_albedo_over_index: rows over the material's own index range, ≤ 6e-4 from the direct E),
 // so the white furnace holds at every λ. The plastic only reflects, and both its lobes send a
 // direction that does not depend on λ (the mirror or a visible normal's reflection, and the
 // cosine lobe): every wavelength follows the sampled direction and no companion is terminated
@@ -42,10 +42,10 @@ namespace spt {
 /// A coat index that varies with λ and its albedo over that index (shared, process lifetime).
 struct DispersiveCoat {
     Spectrum eta;                     ///< η(λ), ≥ 1
-    const CoatAlbedoOverIndex* table;  ///< E(η, μ) at the plastic's α over η's range
+    const CoatAlbedoRows* table;     ///< E(η, μ) at the plastic's α over η's range
 
     /// η at λ, held within the table's range.
-    float index(float lambda_nm) const { return table->clamp_index(eta.eval(lambda_nm)); }
+    float index(float lambda_nm) const { return table->clamp_parameter(eta.eval(lambda_nm)); }
 };
 
 struct PlasticBsdf {
@@ -54,7 +54,7 @@ struct PlasticBsdf {
     GgxDistribution ggx;
     CoatAlbedo coat;   ///< E(μ) at ggx.alpha (a constant roughness)
     /// A textured roughness: E over α, read at ggx.alpha (set at each hit); `coat` unused.
-    const CoatAlbedoTable* coat_table = nullptr;
+    const CoatAlbedoRows* coat_table = nullptr;
     float kd_mean = 0.f;  ///< mean of kd over 380–780 nm, for the lobe choice
     /// A coat index varying with λ, or null (the constant path above). With it `coat` holds
     /// E at η̄, for the lobe choice only.
