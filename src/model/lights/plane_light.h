@@ -33,6 +33,7 @@
 #include <algorithm>
 #include <cmath>
 #include <optional>
+#include <vector>
 
 #include <array>
 #include <bit>
@@ -62,6 +63,41 @@ struct PlaneLight {
     bool blocks_every_plane = false;
     /// Tries of the sampler of the lune minus what the blockers hide.
     static constexpr int kMaxTries = 16;
+    /// The region of this plane seen past the blockers for each sign vector (bit i: the
+    /// side of blocker i the point lies on), 2^blocker_count of them, and the plane's
+    /// tangents they are built in (prepare_regions, after the blockers are set).
+    std::vector<PlaneRegion> regions{};
+    Vec3 region_t1{}, region_t2{};
+    /// dot(cross(t1, t2), normal) (±1): with side(p), whether the map to p's directions
+    /// turns the regions' orientation.
+    float region_handedness = 1.f;
+
+    /// Builds `regions` from the blockers (Scene::finalize).
+    void prepare_regions() {
+        const Frame f(plane.normal);
+        region_t1 = f.s, region_t2 = f.t;
+        region_handedness = dot(cross(f.s, f.t), plane.normal) >= 0.f ? 1.f : -1.f;
+        regions.assign(blocker_count > 0 ? std::size_t(1) << blocker_count : 0, PlaneRegion{});
+        for (std::size_t signs = 0; signs < regions.size(); ++signs)
+            regions[signs] = visible_region(plane.normal, plane.offset, f.s, f.t, blockers.data(), blocker_count,
+                                            static_cast<unsigned>(signs));
+    }
+
+    /// The directions from p that reach the plane past the blockers (p at signed distance s,
+    /// s ≠ 0), on ns's side: the region of p's sign vector seen from p. A point on a blocker
+    /// (where the clipping construction ignores it) takes the side ns faces: the blocker then
+    /// cuts along ns's own horizon, which the polygon is clipped by anyway.
+    VisibleLune visible_from(const Vec3& p, const Vec3& ns, double s) const {
+        unsigned signs = 0;
+        for (int i = 0; i < blocker_count; ++i) {
+            const PlaneBlocker& b = blockers[static_cast<std::size_t>(i)];
+            const double d = double(b.normal.x) * p.x + double(b.normal.y) * p.y + double(b.normal.z) * p.z -
+                             b.offset;
+            const bool on = std::fabs(d) <= 1e-5 * std::max(1.0, std::fabs(double(b.offset)));
+            signs |= unsigned(on ? dot(ns, b.normal) >= 0.f : d > 0.0) << i;
+        }
+        return VisibleLune(p, ns, regions[signs], double(region_handedness) * s > 0.0);
+    }
 
     float power() const { return kPi * kPi * scene_radius * scene_radius * mean_over_visible(Le); }
 
@@ -101,7 +137,7 @@ struct PlaneLight {
                 if (!(cos_n > 0.f) || !(dot(ls.wi, m) > 0.f)) return std::nullopt;
                 ls.pdf = lune_pdf(cos_n, c);
             } else {
-                const VisibleLune visible(ctx.p, ctx.ns, m, std::fabs(s), blockers.data(), blocker_count);
+                const VisibleLune visible = visible_from(ctx.p, ctx.ns, s);
                 if (visible.empty()) return std::nullopt;
                 float v1 = u1, v2 = u2, cos_n = 0.f;
                 bool found = false;
@@ -131,7 +167,7 @@ struct PlaneLight {
         const float c = dot(ctx.ns, m), cos_n = dot(wi, ctx.ns);
         if (!(1.f + c > kMinLune) || !(cos_n > 0.f) || !(dot(wi, m) > 0.f)) return 0.f;
         if (blocker_count == 0) return lune_pdf(cos_n, c);
-        const VisibleLune visible(ctx.p, ctx.ns, m, std::fabs(s), blockers.data(), blocker_count);
+        const VisibleLune visible = visible_from(ctx.p, ctx.ns, s);
         if (visible.empty() || !visible.contains(wi)) return 0.f;
         return visible_pdf(cos_n, c, visible.area());
     }
