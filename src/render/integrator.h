@@ -29,7 +29,7 @@ struct IntegratorSettings {
     /// sampler before it 0.0208; but per path (callgrind, 64², 16 spp) it costs 12 237
     /// instructions against 2 570 (the lune sampler: 4 466, 1.74×): 0.74× the efficiency, the
     /// spherical polygon built at every vertex (and again for each MIS weight) being most of it.
-    bool sample_planes = false;
+    bool sample_planes = true;
     /// 4: the hero wavelength set (default); 1: the hero alone, for measuring what the
     /// companions save (the film weights stay unbiased either way).
     int wavelengths_per_path = kLambdaCount;

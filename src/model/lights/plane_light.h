@@ -36,6 +36,7 @@
 #include <vector>
 
 #include <array>
+#include <atomic>
 #include <bit>
 #include <cstdint>
 
@@ -71,12 +72,16 @@ struct PlaneLight {
     /// dot(cross(t1, t2), normal) (±1): with side(p), whether the map to p's directions
     /// turns the regions' orientation.
     float region_handedness = 1.f;
+    /// Names this light's regions for visible_from's memo (unique per prepare_regions; 0: none).
+    std::uint64_t region_serial = 0;
 
     /// Builds `regions` from the blockers (Scene::finalize).
     void prepare_regions() {
         const Frame f(plane.normal);
         region_t1 = f.s, region_t2 = f.t;
         region_handedness = dot(cross(f.s, f.t), plane.normal) >= 0.f ? 1.f : -1.f;
+        static std::atomic<std::uint64_t> serials{0};
+        region_serial = ++serials;
         regions.assign(blocker_count > 0 ? std::size_t(1) << blocker_count : 0, PlaneRegion{});
         for (std::size_t signs = 0; signs < regions.size(); ++signs)
             regions[signs] = visible_region(plane.normal, plane.offset, f.s, f.t, blockers.data(), blocker_count,
@@ -87,7 +92,20 @@ struct PlaneLight {
     /// s ≠ 0), on ns's side: the region of p's sign vector seen from p. A point on a blocker
     /// (where the clipping construction ignores it) takes the side ns faces: the blocker then
     /// cuts along ns's own horizon, which the polygon is clipped by anyway.
-    VisibleLune visible_from(const Vec3& p, const Vec3& ns, double s) const {
+    ///
+    /// Remembered per thread with what it was built from (this light's regions, p and ns,
+    /// compared bit for bit): the path loop asks again, for the same vertex, when the MIS
+    /// weight of the ray its BSDF sample sent to this plane needs pdf_li, and gets the very
+    /// same polygon without building it twice (integrators need not carry it across the
+    /// bounce). The reference stays valid until the thread's next call.
+    const VisibleLune& visible_from(const Vec3& p, const Vec3& ns, double s) const {
+        struct Memo {
+            std::uint64_t serial = 0;
+            Vec3 p, ns;
+            VisibleLune visible;
+        };
+        thread_local Memo memo;
+        if (memo.serial == region_serial && same_bits(memo.p, p) && same_bits(memo.ns, ns)) return memo.visible;
         unsigned signs = 0;
         for (int i = 0; i < blocker_count; ++i) {
             const PlaneBlocker& b = blockers[static_cast<std::size_t>(i)];
@@ -96,7 +114,9 @@ struct PlaneLight {
             const bool on = std::fabs(d) <= 1e-5 * std::max(1.0, std::fabs(double(b.offset)));
             signs |= unsigned(on ? dot(ns, b.normal) >= 0.f : d > 0.0) << i;
         }
-        return VisibleLune(p, ns, regions[signs], double(region_handedness) * s > 0.0);
+        memo.visible.build(p, ns, regions[signs], double(region_handedness) * s > 0.0);
+        memo.serial = region_serial, memo.p = p, memo.ns = ns;
+        return memo.visible;
     }
 
     float power() const { return kPi * kPi * scene_radius * scene_radius * mean_over_visible(Le); }
@@ -137,7 +157,7 @@ struct PlaneLight {
                 if (!(cos_n > 0.f) || !(dot(ls.wi, m) > 0.f)) return std::nullopt;
                 ls.pdf = lune_pdf(cos_n, c);
             } else {
-                const VisibleLune visible = visible_from(ctx.p, ctx.ns, s);
+                const VisibleLune& visible = visible_from(ctx.p, ctx.ns, s);
                 if (visible.empty()) return std::nullopt;
                 float v1 = u1, v2 = u2, cos_n = 0.f;
                 bool found = false;
@@ -167,7 +187,7 @@ struct PlaneLight {
         const float c = dot(ctx.ns, m), cos_n = dot(wi, ctx.ns);
         if (!(1.f + c > kMinLune) || !(cos_n > 0.f) || !(dot(wi, m) > 0.f)) return 0.f;
         if (blocker_count == 0) return lune_pdf(cos_n, c);
-        const VisibleLune visible = visible_from(ctx.p, ctx.ns, s);
+        const VisibleLune& visible = visible_from(ctx.p, ctx.ns, s);
         if (visible.empty() || !visible.contains(wi)) return 0.f;
         return visible_pdf(cos_n, c, visible.area());
     }
@@ -208,6 +228,12 @@ struct PlaneLight {
                                                                               0x9e3779b9u * std::uint32_t(k)));
         v1 = float(mix(seed) >> 8) * 0x1p-24f;
         v2 = float(mix(seed ^ 0x68e31da4u) >> 8) * 0x1p-24f;
+    }
+
+    static bool same_bits(const Vec3& a, const Vec3& b) {
+        return std::bit_cast<std::uint32_t>(a.x) == std::bit_cast<std::uint32_t>(b.x) &&
+               std::bit_cast<std::uint32_t>(a.y) == std::bit_cast<std::uint32_t>(b.y) &&
+               std::bit_cast<std::uint32_t>(a.z) == std::bit_cast<std::uint32_t>(b.z);
     }
 
     /// Solid-angle density of the lune sampler: cos θ over the lune's projected area π(1 + c)/2.

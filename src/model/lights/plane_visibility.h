@@ -148,7 +148,15 @@ public:
     /// see (visible_region): its vertices' directions from p (in reverse order when the map of
     /// the top of the file turns the orientation, `reverse`), clipped by ns's hemisphere only
     /// when a vertex lies below it.
-    VisibleLune(const Vec3& p, const Vec3& ns, const PlaneRegion& region, bool reverse) : m_ns(ns) {
+    VisibleLune(const Vec3& p, const Vec3& ns, const PlaneRegion& region, bool reverse) {
+        build(p, ns, region, reverse);
+    }
+    /// Empty (for a slot that build() fills later).
+    constexpr VisibleLune() = default;
+
+    /// Makes this the polygon of the constructor above (in place: no copy of the arrays).
+    void build(const Vec3& p, const Vec3& ns, const PlaneRegion& region, bool reverse) {
+        m_ns = ns;
         const int n = region.count;
         bool below = false;
         for (int i = 0; i < n; ++i) {
