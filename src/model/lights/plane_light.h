@@ -46,6 +46,7 @@
 #include <bit>
 #include <cstdint>
 
+#include "core/fast_math.h"
 #include "core/frame.h"
 #include "core/sampling.h"
 #include "geometry/plane.h"
@@ -167,14 +168,17 @@ struct PlaneLight {
                 if (visible.empty()) return std::nullopt;
                 float v1 = u1, v2 = u2, cos_n = 0.f;
                 bool found = false;
+                // From the tightest lune that holds the polygon (fewer tries).
+                const float c_lune = sampling_c(visible, c);
+                const Lune lune(ctx.ns, c_lune == c ? m : visible.bound_normal(), c_lune);
                 for (int k = 0; k < kMaxTries && !found; ++k) {
                     if (k > 0) retry_numbers(u1, u2, k, v1, v2);
-                    ls.wi = lune_direction(ctx.ns, m, c, v1, v2);
+                    ls.wi = lune.direction(v1, v2);
                     cos_n = dot(ls.wi, ctx.ns);
                     found = cos_n > 0.f && dot(ls.wi, m) > 0.f && visible.contains(ls.wi);
                 }
                 if (!found) return std::nullopt;
-                ls.pdf = visible_pdf(cos_n, c, visible.area());
+                ls.pdf = visible_pdf(cos_n, c_lune, visible.area());
                 ls.past_planes = blocks_every_plane;
             }
         }
@@ -195,24 +199,47 @@ struct PlaneLight {
         if (blocker_count == 0) return lune_pdf(cos_n, c);
         const VisibleLune& visible = visible_from(ctx.p, ctx.ns, s);
         if (visible.empty() || !visible.contains(wi)) return 0.f;
-        return visible_pdf(cos_n, c, visible.area());
+        return visible_pdf(cos_n, sampling_c(visible, c), visible.area());
     }
 
-    /// A direction of the lune, cosine-weighted about ns (see the top of the file).
+    /// The lune's frame: ns, the tangent t towards m and b = ns × t, with c = ns·m; made once
+    /// for all the tries at a point.
+    struct Lune {
+        Vec3 ns, t, b;
+        float c;
+        Lune(const Vec3& ns_, const Vec3& m, float c_) : ns(ns_), c(c_) {
+            // Tangent towards m (any tangent when m is along ns: then the lune is the whole
+            // hemisphere and the row stretch is 2 with offset −c·w = −w, or the lune is empty).
+            t = m - ns * c;
+            const float t_len = length(t);
+            t = t_len > 1e-6f ? t / t_len : Frame(ns).s;
+            b = cross(ns, t);
+        }
+        /// A direction of the lune, cosine-weighted about ns (see the top of the file): a
+        /// point uniform in the half disk x ≥ 0 (polar, the angle φ = π(u2 − ½) from the
+        /// series of φ/2 and the double-angle formulas), stretched along its row.
+        Vec3 direction(float u1, float u2) const {
+            float sin_half = 0.f, cos_half = 0.f;
+            sincos_quarter_pi(2.f * u2 - 1.f, sin_half, cos_half);
+            const float r = std::sqrt(u1);
+            const float y = r * (2.f * sin_half * cos_half), x_half = r * ((cos_half - sin_half) * (cos_half + sin_half));
+            const float w = safe_sqrt(1.f - y * y);
+            const float x = std::clamp(-c * w + (1.f + c) * x_half, -w, w);
+            const float z = safe_sqrt(1.f - x * x - y * y);
+            const Vec3 d = t * x + b * y + ns * z;
+            return d * (1.f / length(d));
+        }
+    };
     static Vec3 lune_direction(const Vec3& ns, const Vec3& m, float c, float u1, float u2) {
-        // Tangent towards m (any tangent when m is along ns: then the lune is the whole
-        // hemisphere and the row stretch is 2 with offset −c·w = −w, or the lune is empty).
-        Vec3 t = m - ns * c;
-        const float t_len = length(t);
-        t = t_len > 1e-6f ? t / t_len : Frame(ns).s;
-        const Vec3 b = cross(ns, t);
-        // A point uniform in the half disk x ≥ 0 (polar), stretched along its row.
-        const float r = std::sqrt(u1), phi = kPi * (u2 - 0.5f);
-        const float y = r * std::sin(phi), x_half = r * std::cos(phi);
-        const float w = safe_sqrt(1.f - y * y);
-        const float x = std::clamp(-c * w + (1.f + c) * x_half, -w, w);
-        const float z = safe_sqrt(1.f - x * x - y * y);
-        return normalize(t * x + b * y + ns * z);
+        return Lune(ns, m, c).direction(u1, u2);
+    }
+
+    /// c = ns·axis of the lune the sampler of the polygon draws from: the plane's own (c), or
+    /// the polygon's bounding edge (VisibleLune::bound_c) where that lune is smaller by more
+    /// than rounding and not empty.
+    static float sampling_c(const VisibleLune& visible, float c) {
+        const float b = visible.bound_c();
+        return b < c - 1e-3f && b > -1.f + 1e-3f ? b : c;
     }
 
     /// Density of the sampler of the lune minus what the blockers hide, for a direction in

@@ -41,6 +41,7 @@
 #include <cmath>
 #include <cstdint>
 
+#include "core/fast_math.h"
 #include "core/frame.h"
 #include "core/math.h"
 #include "core/vec3.h"
@@ -141,7 +142,7 @@ public:
             clip(gu);
         }
         if (m_vertices < 3) m_vertices = 0;
-        m_projected_area = m_vertices ? projected_area() : 0.f;
+        finish();
     }
 
     /// The same polygon from the region of the emitting plane that p's sides of the blockers
@@ -161,7 +162,8 @@ public:
         bool below = false;
         for (int i = 0; i < n; ++i) {
             const HomogeneousVertex& h = region.vertex[static_cast<std::size_t>(reverse ? n - 1 - i : i)];
-            const Vec3 d = normalize(h.v - p * h.w);
+            const Vec3 e = h.v - p * h.w;
+            const Vec3 d = e * (1.f / length(e));
             m_v[i] = d;
             // A vertex on ns's horizon (a region's corner on the wall p lies on) is off it
             // by rounding only: the sliver below, ∫ω·ns over it of order 1e-10 of Φ, is kept.
@@ -174,12 +176,15 @@ public:
         // every edge's great circle.
         for (int i = 0; i < m_vertices; ++i) m_g[i] = cross(m_v[i], m_v[i + 1 == m_vertices ? 0 : i + 1]);
         m_constraints = m_vertices;
-        m_projected_area = m_vertices ? projected_area() : 0.f;
+        finish();
     }
 
     bool empty() const { return !(m_projected_area > 0.f); }
-    /// Φ: ∫ over the polygon of ω·ns dω.
-    float projected_area() const;
+    /// The tightest lune about ns that holds the polygon among those cut by its edges' great
+    /// circles (any edge's circle bounds a convex polygon): its unit normal g towards the
+    /// polygon and c = ns·g (the lune's projected area is π(1 + c)/2); c = 2 without edges.
+    const Vec3& bound_normal() const { return m_bound; }
+    float bound_c() const { return m_bound_c; }
     /// True if ω (unit, ω·ns > 0 assumed) is in the polygon: on the plane's side and past every blocker.
     bool contains(const Vec3& w) const {
         for (int i = 0; i < m_constraints; ++i)
@@ -219,20 +224,31 @@ private:
     Vec3 m_g[kMaxVertices + 2];  ///< the constraints ω·g ≥ 0 (clipping) or the edges' normals (region)
     int m_constraints = 0;
     float m_projected_area = 0.f;
+    Vec3 m_bound;
+    float m_bound_c = 2.f;
+
+    /// Φ (Lambert's formula, top of the file) and the bounding edge.
+    void finish();
 };
 
-inline float VisibleLune::projected_area() const {
+inline void VisibleLune::finish() {
     double sum = 0.0;
+    m_bound_c = 2.f;
     for (int i = 0; i < m_vertices; ++i) {
         const Vec3& a = m_v[i];
         const Vec3& b = m_v[i + 1 == m_vertices ? 0 : i + 1];
         const Vec3 axb = cross(a, b);
         const float sin_t = length(axb);
-        const float theta = std::atan2(sin_t, dot(a, b));
+        const float theta = static_cast<float>(atan2_nonnegative(sin_t, dot(a, b)));
         const float ratio = sin_t > 1e-7f ? theta / sin_t : 1.f;  // θ / sin θ → 1
-        sum += double(ratio) * dot(axb, m_ns);
+        const float axb_ns = dot(axb, m_ns);
+        sum += double(ratio) * axb_ns;
+        if (sin_t > 1e-6f && axb_ns < m_bound_c * sin_t) {
+            const float inv = 1.f / sin_t;
+            m_bound_c = axb_ns * inv, m_bound = axb * inv;
+        }
     }
-    return static_cast<float>(0.5 * sum);
+    m_projected_area = m_vertices ? static_cast<float>(0.5 * sum) : 0.f;
 }
 
 
