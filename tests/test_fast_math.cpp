@@ -42,6 +42,31 @@ TEST(FastMath, SinCosMatchStdOnTheQuarterCircle) {
     EXPECT_LT(worst, 2e-7);
 }
 
+TEST(FastMath, Atan2MatchesStdOnTheUpperHalfPlane) {
+    // Random points of the upper half plane at every scale, and near the reduction's seams
+    // (y = |x|, y = tan(π/8)·|x|, x = 0, y = 0), against std::atan2 in double.
+    double worst = 0;
+    spt::Rng rng(4, 5, 6);
+    for (int k = 0; k < 400000; ++k) {
+        const double r = std::ldexp(1.0 + rng.uniform(), static_cast<int>(rng.uniform() * 40) - 20);
+        double angle = rng.uniform() * 3.141592653589793;
+        if (k % 4 == 1) angle = (rng.uniform() < 0.5 ? 0.39269908169872414 : 0.7853981633974483) + 1e-6 * (rng.uniform() - 0.5);
+        if (k % 4 == 2) angle = 3.141592653589793 - angle;
+        const double y = r * std::sin(angle), x = r * std::cos(angle);
+        if (y < 0) continue;
+        worst = std::max(worst, std::fabs(spt::atan2_nonnegative(y, x) - std::atan2(y, x)));
+    }
+    EXPECT_LT(worst, 1e-10);  // the series' bound 7e-11 and double rounding
+    EXPECT_EQ(spt::atan2_nonnegative(0.0, 1.0), 0.0);
+    EXPECT_EQ(spt::atan2_nonnegative(0.0, 0.0), 0.0);
+    EXPECT_NEAR(spt::atan2_nonnegative(0.0, -2.0), 3.141592653589793, 1e-15);
+    EXPECT_NEAR(spt::atan2_nonnegative(3.0, 0.0), 1.5707963267948966, 1e-15);
+    EXPECT_NEAR(spt::atan2_nonnegative(1.0, 1.0), 0.7853981633974483, 1e-15);
+    // Planted bug: four terms of the series miss the bound by orders of magnitude.
+    const double u = 0.41421356237309503, u2 = u * u;
+    EXPECT_GT(std::fabs(u * (1 - u2 * (1.0 / 3 - u2 * (1.0 / 5 - u2 / 7))) - std::atan(u)), 1e-5);
+}
+
 TEST(FastMath, WavelengthSamplerInvertsItsCdf) {
     // λ(u) must be the inverse of the closed-form CDF of visible_wavelength_pdf:
     // F(λ) = (tanh(0.0072·(λ − 538)) − tanh(0.0072·(360 − 538))) / 1.82750197.

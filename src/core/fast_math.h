@@ -1,9 +1,10 @@
-// Logarithm and sine/cosine for the hot sampling code, written without branches or library
+// Logarithm, sine/cosine and atan2 for the hot sampling code, written without branches or library
 // calls so that they inline; the logarithm works on the four wavelengths of a path at once.
 // Both are plain series with their exact coefficients, kept to float accuracy by range
 // reduction (tests/test_fast_math.cpp bounds the error against <cmath>).
 #pragma once
 #include <bit>
+#include <cmath>
 
 #include "core/simd.h"
 
@@ -33,6 +34,26 @@ inline void sincos_quarter_pi(float s, float& sin_out, float& cos_out) {
     const float t = 0.785398163397448f * s, t2 = t * t;
     sin_out = t * (1.f - t2 * (1.f / 6 - t2 * (1.f / 120 - t2 * (1.f / 5040 - t2 * (1.f / 362880)))));
     cos_out = 1.f - t2 * (0.5f - t2 * (1.f / 24 - t2 * (1.f / 720 - t2 * (1.f / 40320 - t2 * (1.f / 3628800)))));
+}
+
+/// atan2(y, x) for y ≥ 0 (an angle in [0, π]; (0, 0) gives 0), in double: with t the ratio
+/// of the smaller of y, |x| to the larger (t ∈ [0, 1]), atan t = π/4 + atan((t − 1)/(t + 1))
+/// above tan(π/8) leaves |u| ≤ tan(π/8) = 0.4142, where eleven terms of u − u³/3 + u⁵/5 − …
+/// leave less than u²³/23 < 7e-11; then π/2 − · where y > |x|, and π − · where x < 0. One
+/// division, no library call (std::atan2f cost ~130 instructions with its wrapper).
+inline double atan2_nonnegative(double y, double x) {
+    const double ax = std::fabs(x);
+    const bool swap = y > ax;
+    const double num = swap ? ax : y, den = swap ? y : ax;
+    const bool shift = num > 0.41421356237309503 * den;
+    const double u = den > 0.0 ? (shift ? (num - den) / (num + den) : num / den) : 0.0, u2 = u * u;
+    const double series =
+        1.0 - u2 * (1.0 / 3 - u2 * (1.0 / 5 - u2 * (1.0 / 7 - u2 * (1.0 / 9 - u2 * (1.0 / 11 - u2 * (1.0 / 13 -
+        u2 * (1.0 / 15 - u2 * (1.0 / 17 - u2 * (1.0 / 19 - u2 * (1.0 / 21))))))))));
+    double a = (shift ? 0.78539816339744831 : 0.0) + u * series;
+    if (swap) a = 1.5707963267948966 - a;
+    if (x < 0.0) a = 3.1415926535897932 - a;
+    return a;
 }
 
 }  // namespace spt

@@ -535,6 +535,7 @@ void Scene::finalize_lights() {
             }
             l->blockers[static_cast<std::size_t>(l->blocker_count++)] = {other.normal, other.offset};
         }
+        l->prepare_regions();
     }
     auto attach_quadric = [&](const auto& shape, const char* what) {
         if (shape.light < 0) return;

@@ -17,9 +17,13 @@
 // floor of the box, two thirds of its directions end on a wall, and the lune sampler's
 // shadow rays found them blocked. With such planes (`blockers`), the sampler draws from the
 // lune minus what they hide (plane_visibility.h: a convex spherical polygon whose projected
-// solid angle Φ is exact), still ∝ cos θ: it draws lune directions until one lies in the
-// polygon, at most kMaxTries times (each try accepted with probability A = Φ/(π(1 + c)/2)),
-// so a direction of the polygon has density
+// solid angle Φ is exact), still ∝ cos θ: it draws directions of a lune that holds the
+// polygon until one lies in it, at most kMaxTries times. That lune is the one of ns and m,
+// or, where smaller, the one of ns and the great circle of one of the polygon's edges (its
+// normal g: any edge's circle bounds a convex polygon; the same lune sampler with c = ns·g,
+// chosen from the polygon alone, so pdf_li makes the same choice; with cheaper normalising
+// it took 3.5 % of the instructions per path on cornell). Each try is accepted with probability
+// A = Φ/(π(1 + c)/2), so a direction of the polygon has density
 //     pdf(ω) = cos θ / Φ · (1 − (1 − A)^kMaxTries)
 // and no sample is returned with probability (1 − A)^kMaxTries (then the estimate is 0: the
 // density accounts for it, so the estimator stays unbiased). A diffuse surface's sample then
@@ -29,15 +33,25 @@
 // pseudo-random stream, as good as independent for a hash with full avalanche). When every
 // other plane blocks, no sampled direction crosses one on its way to this plane, so the
 // shadow ray tests only the finite shapes (LightSample::past_planes).
+//
+// Cost: the polygon comes from the region of the plane seen from p's sides of the blockers,
+// built for every sign vector when the scene is finalized (plane_visibility.h), and is
+// remembered per thread for the density the MIS weight of the next bounce asks for
+// (visible_from); the edges' angles come from a series (fast_math.h), not atan2f. On
+// cornell (callgrind, portable build, 64², 16 spp) that took a path from 12 228 instructions
+// to 6 927 (BSDF sampling alone: 2 558); each step is measured in its commit.
 #pragma once
 #include <algorithm>
 #include <cmath>
 #include <optional>
+#include <vector>
 
 #include <array>
+#include <atomic>
 #include <bit>
 #include <cstdint>
 
+#include "core/fast_math.h"
 #include "core/frame.h"
 #include "core/sampling.h"
 #include "geometry/plane.h"
@@ -62,6 +76,60 @@ struct PlaneLight {
     bool blocks_every_plane = false;
     /// Tries of the sampler of the lune minus what the blockers hide.
     static constexpr int kMaxTries = 16;
+    /// The region of this plane seen past the blockers for each sign vector (bit i: the
+    /// side of blocker i the point lies on), 2^blocker_count of them, and the plane's
+    /// tangents they are built in (prepare_regions, after the blockers are set).
+    std::vector<PlaneRegion> regions{};
+    Vec3 region_t1{}, region_t2{};
+    /// dot(cross(t1, t2), normal) (±1): with side(p), whether the map to p's directions
+    /// turns the regions' orientation.
+    float region_handedness = 1.f;
+    /// Names this light's regions for visible_from's memo (unique per prepare_regions; 0: none).
+    std::uint64_t region_serial = 0;
+
+    /// Builds `regions` from the blockers (Scene::finalize).
+    void prepare_regions() {
+        const Frame f(plane.normal);
+        region_t1 = f.s, region_t2 = f.t;
+        region_handedness = dot(cross(f.s, f.t), plane.normal) >= 0.f ? 1.f : -1.f;
+        static std::atomic<std::uint64_t> serials{0};
+        region_serial = ++serials;
+        regions.assign(blocker_count > 0 ? std::size_t(1) << blocker_count : 0, PlaneRegion{});
+        for (std::size_t signs = 0; signs < regions.size(); ++signs)
+            regions[signs] = visible_region(plane.normal, plane.offset, f.s, f.t, blockers.data(), blocker_count,
+                                            static_cast<unsigned>(signs));
+    }
+
+    /// The directions from p that reach the plane past the blockers (p at signed distance s,
+    /// s ≠ 0), on ns's side: the region of p's sign vector seen from p. A point on a blocker
+    /// (where the clipping construction ignores it) takes the side ns faces: the blocker then
+    /// cuts along ns's own horizon, which the polygon is clipped by anyway.
+    ///
+    /// Remembered per thread with what it was built from (this light's regions, p and ns,
+    /// compared bit for bit): the path loop asks again, for the same vertex, when the MIS
+    /// weight of the ray its BSDF sample sent to this plane needs pdf_li, and gets the very
+    /// same polygon without building it twice (integrators need not carry it across the
+    /// bounce). The reference stays valid until the thread's next call.
+    const VisibleLune& visible_from(const Vec3& p, const Vec3& ns, double s) const {
+        struct Memo {
+            std::uint64_t serial = 0;
+            Vec3 p, ns;
+            VisibleLune visible;
+        };
+        thread_local Memo memo;
+        if (memo.serial == region_serial && same_bits(memo.p, p) && same_bits(memo.ns, ns)) return memo.visible;
+        unsigned signs = 0;
+        for (int i = 0; i < blocker_count; ++i) {
+            const PlaneBlocker& b = blockers[static_cast<std::size_t>(i)];
+            const double d = double(b.normal.x) * p.x + double(b.normal.y) * p.y + double(b.normal.z) * p.z -
+                             b.offset;
+            const bool on = std::fabs(d) <= 1e-5 * std::max(1.0, std::fabs(double(b.offset)));
+            signs |= unsigned(on ? dot(ns, b.normal) >= 0.f : d > 0.0) << i;
+        }
+        memo.visible.build(p, ns, regions[signs], double(region_handedness) * s > 0.0);
+        memo.serial = region_serial, memo.p = p, memo.ns = ns;
+        return memo.visible;
+    }
 
     float power() const { return kPi * kPi * scene_radius * scene_radius * mean_over_visible(Le); }
 
@@ -101,18 +169,21 @@ struct PlaneLight {
                 if (!(cos_n > 0.f) || !(dot(ls.wi, m) > 0.f)) return std::nullopt;
                 ls.pdf = lune_pdf(cos_n, c);
             } else {
-                const VisibleLune visible(ctx.p, ctx.ns, m, std::fabs(s), blockers.data(), blocker_count);
+                const VisibleLune& visible = visible_from(ctx.p, ctx.ns, s);
                 if (visible.empty()) return std::nullopt;
                 float v1 = u1, v2 = u2, cos_n = 0.f;
                 bool found = false;
+                // From the tightest lune that holds the polygon (fewer tries).
+                const float c_lune = sampling_c(visible, c);
+                const Lune lune(ctx.ns, c_lune == c ? m : visible.bound_normal(), c_lune);
                 for (int k = 0; k < kMaxTries && !found; ++k) {
                     if (k > 0) retry_numbers(u1, u2, k, v1, v2);
-                    ls.wi = lune_direction(ctx.ns, m, c, v1, v2);
+                    ls.wi = lune.direction(v1, v2);
                     cos_n = dot(ls.wi, ctx.ns);
                     found = cos_n > 0.f && dot(ls.wi, m) > 0.f && visible.contains(ls.wi);
                 }
                 if (!found) return std::nullopt;
-                ls.pdf = visible_pdf(cos_n, c, visible.area());
+                ls.pdf = visible_pdf(cos_n, c_lune, visible.area());
                 ls.past_planes = blocks_every_plane;
             }
         }
@@ -131,33 +202,60 @@ struct PlaneLight {
         const float c = dot(ctx.ns, m), cos_n = dot(wi, ctx.ns);
         if (!(1.f + c > kMinLune) || !(cos_n > 0.f) || !(dot(wi, m) > 0.f)) return 0.f;
         if (blocker_count == 0) return lune_pdf(cos_n, c);
-        const VisibleLune visible(ctx.p, ctx.ns, m, std::fabs(s), blockers.data(), blocker_count);
+        const VisibleLune& visible = visible_from(ctx.p, ctx.ns, s);
         if (visible.empty() || !visible.contains(wi)) return 0.f;
-        return visible_pdf(cos_n, c, visible.area());
+        return visible_pdf(cos_n, sampling_c(visible, c), visible.area());
     }
 
-    /// A direction of the lune, cosine-weighted about ns (see the top of the file).
+    /// The lune's frame: ns, the tangent t towards m and b = ns × t, with c = ns·m; made once
+    /// for all the tries at a point.
+    struct Lune {
+        Vec3 ns, t, b;
+        float c;
+        Lune(const Vec3& ns_, const Vec3& m, float c_) : ns(ns_), c(c_) {
+            // Tangent towards m (any tangent when m is along ns: then the lune is the whole
+            // hemisphere and the row stretch is 2 with offset −c·w = −w, or the lune is empty).
+            t = m - ns * c;
+            const float t_len = length(t);
+            t = t_len > 1e-6f ? t / t_len : Frame(ns).s;
+            b = cross(ns, t);
+        }
+        /// A direction of the lune, cosine-weighted about ns (see the top of the file): a
+        /// point uniform in the half disk x ≥ 0 (polar, the angle φ = π(u2 − ½) from the
+        /// series of φ/2 and the double-angle formulas), stretched along its row.
+        Vec3 direction(float u1, float u2) const {
+            float sin_half = 0.f, cos_half = 0.f;
+            sincos_quarter_pi(2.f * u2 - 1.f, sin_half, cos_half);
+            const float r = std::sqrt(u1);
+            const float y = r * (2.f * sin_half * cos_half), x_half = r * ((cos_half - sin_half) * (cos_half + sin_half));
+            const float w = safe_sqrt(1.f - y * y);
+            const float x = std::clamp(-c * w + (1.f + c) * x_half, -w, w);
+            const float z = safe_sqrt(1.f - x * x - y * y);
+            const Vec3 d = t * x + b * y + ns * z;
+            return d * (1.f / length(d));
+        }
+    };
     static Vec3 lune_direction(const Vec3& ns, const Vec3& m, float c, float u1, float u2) {
-        // Tangent towards m (any tangent when m is along ns: then the lune is the whole
-        // hemisphere and the row stretch is 2 with offset −c·w = −w, or the lune is empty).
-        Vec3 t = m - ns * c;
-        const float t_len = length(t);
-        t = t_len > 1e-6f ? t / t_len : Frame(ns).s;
-        const Vec3 b = cross(ns, t);
-        // A point uniform in the half disk x ≥ 0 (polar), stretched along its row.
-        const float r = std::sqrt(u1), phi = kPi * (u2 - 0.5f);
-        const float y = r * std::sin(phi), x_half = r * std::cos(phi);
-        const float w = safe_sqrt(1.f - y * y);
-        const float x = std::clamp(-c * w + (1.f + c) * x_half, -w, w);
-        const float z = safe_sqrt(1.f - x * x - y * y);
-        return normalize(t * x + b * y + ns * z);
+        return Lune(ns, m, c).direction(u1, u2);
+    }
+
+    /// c = ns·axis of the lune the sampler of the polygon draws from: the plane's own (c), or
+    /// the polygon's bounding edge (VisibleLune::bound_c) where that lune is smaller by more
+    /// than rounding and not empty.
+    static float sampling_c(const VisibleLune& visible, float c) {
+        const float b = visible.bound_c();
+        return b < c - 1e-3f && b > -1.f + 1e-3f ? b : c;
     }
 
     /// Density of the sampler of the lune minus what the blockers hide, for a direction in
     /// it: cos θ/Φ times the chance that one of the tries lands in it.
     static float visible_pdf(float cos_n, float c, float projected_area) {
         const float accept = std::min(1.f, projected_area / (0.5f * kPi * (1.f + c)));
-        const float miss_all = std::pow(1.f - accept, float(kMaxTries));
+        // (1 − A)^16 by four squarings (a pow call cost more than the rest of the density;
+        // relative error ~30 ulp of a number that 1 − it barely feels).
+        static_assert(kMaxTries == 16);
+        float miss_all = 1.f - accept;
+        miss_all *= miss_all, miss_all *= miss_all, miss_all *= miss_all, miss_all *= miss_all;
         return cos_n / projected_area * (1.f - miss_all);
     }
 
@@ -172,6 +270,12 @@ struct PlaneLight {
                                                                               0x9e3779b9u * std::uint32_t(k)));
         v1 = float(mix(seed) >> 8) * 0x1p-24f;
         v2 = float(mix(seed ^ 0x68e31da4u) >> 8) * 0x1p-24f;
+    }
+
+    static bool same_bits(const Vec3& a, const Vec3& b) {
+        return std::bit_cast<std::uint32_t>(a.x) == std::bit_cast<std::uint32_t>(b.x) &&
+               std::bit_cast<std::uint32_t>(a.y) == std::bit_cast<std::uint32_t>(b.y) &&
+               std::bit_cast<std::uint32_t>(a.z) == std::bit_cast<std::uint32_t>(b.z);
     }
 
     /// Solid-angle density of the lune sampler: cos θ over the lune's projected area π(1 + c)/2.

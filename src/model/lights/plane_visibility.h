@@ -22,13 +22,26 @@
 // vertices 90° apart, and a new edge longer than 90° gets its point 90° along (both halves
 // then shorter than 180°, where the cross product names the great circle).
 //
+// The clipping depends on p only through the side of each blocker p lies on (its sign
+// vector): the ceiling points seen past the blockers are the emitting plane's points on p's
+// side of every blocker, a convex planar region (unbounded where the box is open). So it is
+// built once per sign vector (PlaneRegion, visible_region: the same Sutherland–Hodgman clip,
+// in the homogeneous coordinates (X, Y, W) of the plane, whose directions W ≥ 0 are a
+// hemisphere; W = 0 are its points at infinity, and an edge between two of them is the
+// plane's horizon). At p the polygon is the image of that region under the linear map
+// (X, Y, W) ↦ X·t1 + Y·t2 + W·(o − p) (o the plane's point nearest the origin), which takes
+// arcs below 180° to arcs below 180° and keeps the polygon convex; only the clip by the
+// surface's own hemisphere ω·ns ≥ 0 remains, and only when a vertex lies below it.
+//
 // Accuracy: the polygon's vertices and Φ are float (relative error ~1e-6); where ns is within
 // 1e-4 of m the lune is taken as ns's hemisphere, whose extra sliver (ω·m < 0) holds at most
 // ~1e-4 of Φ.
 #pragma once
+#include <array>
 #include <cmath>
 #include <cstdint>
 
+#include "core/fast_math.h"
 #include "core/frame.h"
 #include "core/math.h"
 #include "core/vec3.h"
@@ -41,10 +54,65 @@ struct PlaneBlocker {
     float offset = 0.f;
 };
 
+inline constexpr int kMaxPlaneBlockers = 8;
+/// Vertices a clipped polygon can reach: the lune's 4, and per great circle at most one
+/// more plus the point that splits its new edge.
+inline constexpr int kMaxSphericalVertices = 4 + 2 * (kMaxPlaneBlockers + 1);
+
+/// A vertex of a region of the emitting plane in homogeneous form: the point v/w (w > 0), or
+/// for w = 0 the point at infinity in direction v. The direction from p towards it is v − w·p.
+struct HomogeneousVertex {
+    Vec3 v;
+    float w = 0.f;
+};
+
+/// The part of the emitting plane seen past the blockers from the points on given sides of
+/// them: a convex region, its vertices counter-clockwise about the plane's normal cross(t1,
+/// t2) of visible_region; fewer than 3: nothing is seen.
+struct PlaneRegion {
+    std::array<HomogeneousVertex, 4 + 2 * kMaxPlaneBlockers> vertex{};
+    int count = 0;
+};
+
+/// Clips the convex spherical polygon v[0, n) (unit vertices counter-clockwise about the
+/// inside: v_i × v_{i+1} points into it, every edge below 180°) to ω·g ≥ 0 in place; v must
+/// hold n + 2 vertices. Returns the new count.
+inline int clip_spherical_polygon(Vec3* v, int n_in, const Vec3& g) {
+    Vec3 out[kMaxSphericalVertices + 2];
+    int n = 0, exit = -1;
+    for (int i = 0; i < n_in; ++i) {
+        const Vec3& a = v[i];
+        const Vec3& b = v[i + 1 == n_in ? 0 : i + 1];
+        const float da = dot(a, g), db = dot(b, g);
+        const bool in_a = da >= 0.f, in_b = db >= 0.f;
+        if (in_a) out[n++] = a;
+        if (in_a != in_b) {
+            if (in_a) exit = n;
+            out[n++] = normalize(a * std::fabs(db) + b * std::fabs(da));
+        }
+    }
+    if (exit >= 0 && n >= 2) {
+        // The new edge runs from the exit point counter-clockwise about g to the entry
+        // point; past 90° it gets the point 90° along, g × exit.
+        const Vec3 x = out[exit], e = out[(exit + 1) % n];
+        if (dot(x, e) < 0.f) {
+            for (int j = n; j > exit + 1; --j) out[j] = out[j - 1];
+            out[exit + 1] = normalize(cross(g, x));
+            ++n;
+        }
+    }
+    int kept = 0;
+    for (int i = 0; i < n; ++i) {  // drop repeated vertices (a corner on the circle)
+        const Vec3& next = out[i + 1 == n ? 0 : i + 1];
+        if (length_squared(cross(out[i], next)) > 1e-14f || dot(out[i], next) < 0.f) v[kept++] = out[i];
+    }
+    return kept;
+}
+
 class VisibleLune {
 public:
-    static constexpr int kMaxBlockers = 8;
-    static constexpr int kMaxVertices = 4 + 2 * (kMaxBlockers + 1);
+    static constexpr int kMaxBlockers = kMaxPlaneBlockers;
+    static constexpr int kMaxVertices = kMaxSphericalVertices;
 
     /// p at distance s > 0 from the emitting plane, m its normal towards it, ns the gathering
     /// side's normal (1 + ns·m > 0); blockers[0, count) the other planes (at most kMaxBlockers).
@@ -74,12 +142,49 @@ public:
             clip(gu);
         }
         if (m_vertices < 3) m_vertices = 0;
-        m_projected_area = m_vertices ? projected_area() : 0.f;
+        finish();
+    }
+
+    /// The same polygon from the region of the emitting plane that p's sides of the blockers
+    /// see (visible_region): its vertices' directions from p (in reverse order when the map of
+    /// the top of the file turns the orientation, `reverse`), clipped by ns's hemisphere only
+    /// when a vertex lies below it.
+    VisibleLune(const Vec3& p, const Vec3& ns, const PlaneRegion& region, bool reverse) {
+        build(p, ns, region, reverse);
+    }
+    /// Empty (for a slot that build() fills later).
+    constexpr VisibleLune() = default;
+
+    /// Makes this the polygon of the constructor above (in place: no copy of the arrays).
+    void build(const Vec3& p, const Vec3& ns, const PlaneRegion& region, bool reverse) {
+        m_ns = ns;
+        const int n = region.count;
+        bool below = false;
+        for (int i = 0; i < n; ++i) {
+            const HomogeneousVertex& h = region.vertex[static_cast<std::size_t>(reverse ? n - 1 - i : i)];
+            const Vec3 e = h.v - p * h.w;
+            const Vec3 d = e * (1.f / length(e));
+            m_v[i] = d;
+            // A vertex on ns's horizon (a region's corner on the wall p lies on) is off it
+            // by rounding only: the sliver below, ∫ω·ns over it of order 1e-10 of Φ, is kept.
+            below |= dot(d, ns) < -1e-5f;
+        }
+        m_vertices = n;
+        if (below && n >= 3) clip(ns);
+        if (m_vertices < 3) m_vertices = 0;
+        // A convex polygon with edges below 180° holds ω iff ω is on the inner side of
+        // every edge's great circle.
+        for (int i = 0; i < m_vertices; ++i) m_g[i] = cross(m_v[i], m_v[i + 1 == m_vertices ? 0 : i + 1]);
+        m_constraints = m_vertices;
+        finish();
     }
 
     bool empty() const { return !(m_projected_area > 0.f); }
-    /// Φ: ∫ over the polygon of ω·ns dω.
-    float projected_area() const;
+    /// The tightest lune about ns that holds the polygon among those cut by its edges' great
+    /// circles (any edge's circle bounds a convex polygon): its unit normal g towards the
+    /// polygon and c = ns·g (the lune's projected area is π(1 + c)/2); c = 2 without edges.
+    const Vec3& bound_normal() const { return m_bound; }
+    float bound_c() const { return m_bound_c; }
     /// True if ω (unit, ω·ns > 0 assumed) is in the polygon: on the plane's side and past every blocker.
     bool contains(const Vec3& w) const {
         for (int i = 0; i < m_constraints; ++i)
@@ -111,56 +216,83 @@ private:
     }
 
     /// Keeps the part with ω·g ≥ 0.
-    void clip(const Vec3& g) {
-        Vec3 out[kMaxVertices + 2];
-        int n = 0, exit = -1;
-        for (int i = 0; i < m_vertices; ++i) {
-            const Vec3& a = m_v[i];
-            const Vec3& b = m_v[(i + 1) % m_vertices];
-            const float da = dot(a, g), db = dot(b, g);
-            const bool in_a = da >= 0.f, in_b = db >= 0.f;
-            if (in_a) out[n++] = a;
-            if (in_a != in_b) {
-                if (in_a) exit = n;
-                out[n++] = normalize(a * std::fabs(db) + b * std::fabs(da));
-            }
-        }
-        if (exit >= 0 && n >= 2) {
-            // The new edge runs from the exit point counter-clockwise about g to the entry
-            // point; past 90° it gets the point 90° along, g × exit.
-            const Vec3 x = out[exit], e = out[(exit + 1) % n];
-            if (dot(x, e) < 0.f) {
-                for (int j = n; j > exit + 1; --j) out[j] = out[j - 1];
-                out[exit + 1] = normalize(cross(g, x));
-                ++n;
-            }
-        }
-        m_vertices = 0;
-        for (int i = 0; i < n; ++i)  // drop repeated vertices (a corner on the circle)
-            if (length_squared(cross(out[i], out[(i + 1) % n])) > 1e-14f || dot(out[i], out[(i + 1) % n]) < 0.f)
-                m_v[m_vertices++] = out[i];
-    }
+    void clip(const Vec3& g) { m_vertices = clip_spherical_polygon(m_v, m_vertices, g); }
 
     Vec3 m_ns;
     Vec3 m_v[kMaxVertices + 2];
     int m_vertices = 0;
-    Vec3 m_g[kMaxBlockers + 1];
+    Vec3 m_g[kMaxVertices + 2];  ///< the constraints ω·g ≥ 0 (clipping) or the edges' normals (region)
     int m_constraints = 0;
     float m_projected_area = 0.f;
+    Vec3 m_bound;
+    float m_bound_c = 2.f;
+
+    /// Φ (Lambert's formula, top of the file) and the bounding edge.
+    void finish();
 };
 
-inline float VisibleLune::projected_area() const {
+inline void VisibleLune::finish() {
     double sum = 0.0;
+    m_bound_c = 2.f;
     for (int i = 0; i < m_vertices; ++i) {
         const Vec3& a = m_v[i];
-        const Vec3& b = m_v[(i + 1) % m_vertices];
+        const Vec3& b = m_v[i + 1 == m_vertices ? 0 : i + 1];
         const Vec3 axb = cross(a, b);
         const float sin_t = length(axb);
-        const float theta = std::atan2(sin_t, dot(a, b));
+        const float theta = static_cast<float>(atan2_nonnegative(sin_t, dot(a, b)));
         const float ratio = sin_t > 1e-7f ? theta / sin_t : 1.f;  // θ / sin θ → 1
-        sum += double(ratio) * dot(axb, m_ns);
+        const float axb_ns = dot(axb, m_ns);
+        sum += double(ratio) * axb_ns;
+        if (sin_t > 1e-6f && axb_ns < m_bound_c * sin_t) {
+            const float inv = 1.f / sin_t;
+            m_bound_c = axb_ns * inv, m_bound = axb * inv;
+        }
     }
-    return static_cast<float>(0.5 * sum);
+    m_projected_area = m_vertices ? static_cast<float>(0.5 * sum) : 0.f;
+}
+
+
+/// The region of the plane dot(normal, x) = offset (tangents t1, t2, with cross(t1, t2) =
+/// ±normal) seen past the blockers from points on their sides `signs` (bit i set: the side
+/// blocker i's normal points to): the plane's points on those sides, clipped in the plane's
+/// homogeneous coordinates (X, Y, W), x = X·t1 + Y·t2 + W·o, starting from the hemisphere
+/// W ≥ 0 (four points at infinity 90° apart, counter-clockwise about W). A blocker parallel
+/// to the plane leaves all of it or none.
+inline PlaneRegion visible_region(const Vec3& normal, float offset, const Vec3& t1, const Vec3& t2,
+                                  const PlaneBlocker* blockers, int count, unsigned signs) {
+    const Vec3 o = normal * offset;
+    Vec3 h[kMaxSphericalVertices + 2] = {{1, 0, 0}, {0, 1, 0}, {-1, 0, 0}, {0, -1, 0}};
+    int n = 4;
+    for (int i = 0; i < count && n >= 3; ++i) {
+        const bool positive = (signs >> i) & 1u;
+        const Vec3 q = positive ? blockers[i].normal : -blockers[i].normal;
+        const float q_offset = positive ? blockers[i].offset : -blockers[i].offset;
+        const Vec3 g(dot(q, t1), dot(q, t2), dot(q, o) - q_offset);
+        if (std::fabs(dot(q, normal)) >= 1.f - 1e-7f) {
+            if (g.z < 0.f) n = 0;  // the whole plane beyond the blocker
+            continue;
+        }
+        n = clip_spherical_polygon(h, n, normalize(g));
+    }
+    // Drop the vertices that lie on the arc between their neighbours (the ends of a strip's
+    // sides where the back wall cut it off): each costs an edge at every point. Only where
+    // the merged edge stays well below 180° (dot > −0.9), which the map to p's directions keeps.
+    for (int k = 0; n > 3 && k < n;) {
+        const Vec3& a = h[k == 0 ? n - 1 : k - 1];
+        const Vec3& c = h[k + 1 == n ? 0 : k + 1];
+        if (std::fabs(dot(cross(a, c), h[k])) < 1e-6f && dot(a, c) > -0.9f && dot(a, h[k]) > dot(a, c) &&
+            dot(c, h[k]) > dot(a, c)) {
+            for (int j = k; j + 1 < n; ++j) h[j] = h[j + 1];
+            --n;
+        } else {
+            ++k;
+        }
+    }
+    PlaneRegion region;
+    if (n < 3) return region;
+    for (int k = 0; k < n; ++k) region.vertex[static_cast<std::size_t>(k)] = {t1 * h[k].x + t2 * h[k].y + o * h[k].z, h[k].z};
+    region.count = n;
+    return region;
 }
 
 }  // namespace spt
