@@ -180,15 +180,16 @@ int run(const spt::Options& opt) {
     rs.height = size.height;
     rs.spp = opt.spp.value_or(scene->spp);
     rs.seed = opt.seed;
-    rs.sampler = opt.sampler;
     rs.threads = opt.threads > 0 ? opt.threads
                                  : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
     rs.integrator = integrator.settings;
     rs.tile = opt.tile;
     rs.queue = opt.queue;
     rs.schedule = opt.schedule;
+    rs.sampler = opt.sampler.value_or(
+        spt::default_sampler(rs.integrator.kind, rs.schedule == spt::Schedule::wavefront));
     if (const char* feature = rs.schedule == spt::Schedule::wavefront
-                                  ? spt::wavefront_unsupported(*scene, rs.integrator, opt.sampler) : nullptr)
+                                  ? spt::wavefront_unsupported(*scene, rs.integrator, rs.sampler) : nullptr)
         throw spt::UsageError(std::string("--schedule wavefront: does not support ") + feature + " (scene '" +
                               scene->name + "'); expected --schedule tiles" +
                               (rs.sampler != spt::SamplerKind::independent ? " or --sampler independent" : ""));

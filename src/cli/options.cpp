@@ -138,10 +138,10 @@ Options:
                          On SIGINT/SIGTERM the unfinished image is written beside each
                          output X.ext as X.partial.ext (X.ext is left as it was) and the
                          program exits with status 130/143.
-  --sampler NAME         independent (default: PCG32 numbers) or sobol (Owen-scrambled
-                         Sobol points per pixel, each number at a fixed dimension; the path
-                         integrator throughout, bdpt, vcm and media for the camera sample
-                         only: lower error at equal samples, more time per path)
+  --sampler NAME         sobol (default for the path integrator on the tiles schedule:
+                         Owen-scrambled Sobol points per pixel, each number at a fixed
+                         dimension; bdpt, vcm and media take only the camera sample from
+                         it) or independent (default elsewhere: PCG32 numbers)
   --wavelengths-per-path K   4 (default: hero wavelength set) or 1 (hero alone)
   --no-dispersion        give dispersive glass its mean index over 380-780 nm (to measure
                          what dispersion costs)

@@ -46,7 +46,8 @@ struct RenderSettings {
     /// would end after this. The first pass always runs, so the image has samples.
     double time_limit = 0;
     IntegratorSettings integrator;
-    SamplerKind sampler = kDefaultSampler;  ///< the random numbers of each path sample
+    /// The random numbers of each path sample (the command line chooses default_sampler).
+    SamplerKind sampler = SamplerKind::independent;
     /// Set only for spectral output beyond 360-830 nm (path integrator): wavelengths are then
     /// drawn from this wider density instead of the visible one.
     std::optional<WideWavelengthSampling> wide_wavelengths;

@@ -15,11 +15,18 @@ namespace spt {
 /// sample (pixel position, wavelength, lens, time) from it and the rest from its PCG stream.
 enum class SamplerKind { independent, sobol };
 
-/// The default: Sobol has the lower error at equal samples on cornell and cornell-point (1.35x
-/// to 1.62x at 16, 64 and 256 spp; validation/results/sampler_convergence.md) but not at every
-/// count on cornell-sphere, and on cornell it takes 1.21x the time per path (256x256x128,
-/// 1 thread, min of 5 interleaved): 1.17x the efficiency there, below 1 on cornell-sphere.
-inline constexpr SamplerKind kDefaultSampler = SamplerKind::independent;
+/// The command line's default: Sobol for the path integrator on the tiles schedule, the
+/// independent sampler elsewhere (the wavefront schedule runs only the independent sampler;
+/// bdpt and vcm take only their camera sample from Sobol, unmeasured). With the plane
+/// light's sampler on (the default since), Sobol's overhead per path is a small share: on
+/// cornell (128², 64 spp, seeds 1–4, reference 4096 spp) relMSE 0.0077 against 0.0123
+/// (1.61× lower) at 1.13× the time (256², 64 spp, 1 thread, min of 5 interleaved; shared
+/// machine): 1.42× the efficiency. cornell-point: 1.38–1.62× lower relMSE
+/// (validation/results/sampler_convergence.md). cornell-sphere with the caustic sampler:
+/// equal within the noise.
+constexpr SamplerKind default_sampler(IntegratorKind integrator, bool wavefront) {
+    return integrator == IntegratorKind::path && !wavefront ? SamplerKind::sobol : SamplerKind::independent;
+}
 
 constexpr const char* sampler_name(SamplerKind kind) {
     return kind == SamplerKind::sobol ? "sobol" : "independent";
