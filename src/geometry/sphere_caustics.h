@@ -72,7 +72,8 @@ struct SphereChainRoot {
     DVec3 w_exit;     ///< unit direction leaving the exit point (towards y)
     double cos_in;    ///< cos θ: angle of incidence at entry (from outside) ≥ 0
     double cos_t;     ///< cos θt: angle of the chord to the normal inside (incidence at exit)
-    double theta;     ///< the signed parameter θ, for matching roots
+    double sin_theta;  ///< sin θ, the solver's variable
+    double theta;      ///< the signed parameter θ
     /// |dω_x/dA_⊥|: the direction density per unit area perpendicular to the exit ray at y
     /// (multiply by |cos θ_y| for the density per unit area of a surface at y).
     double dw_dAperp;
@@ -132,7 +133,7 @@ public:
         // g at every node (the closed form of eval() with the tabulated parts).
         const SphereChainNodes& t = *m_nodes;
         const double r_over_d = m_R / m_D, R = m_R, ya_d = m_ya - m_D, rho = m_rho;
-        double g[kCells + 1];
+        double g[kCells + 1], along[kCells + 1];
         for (int k = 0; k <= kCells; ++k) {
             const double sa = r_over_d * t.s[k];
             const double ca = std::sqrt(1.0 - sa * sa);
@@ -140,20 +141,18 @@ public:
             const double fr = ca * t.pr[k] - sa * t.pi[k], fi = ca * t.pi[k] + sa * t.pr[k];
             const double wa = ya_d - R * fr, wh = rho - R * fi;
             g[k] = br * wh - bi * wa;
+            along[k] = br * wa + bi * wh;
         }
         int n = 0;
         double h_prev = g[0];
         for (int k = 1; k <= kCells && n < kMaxRoots; ++k) {
             const double h = g[k];
-            if ((h_prev < 0.0) != (h < 0.0) || h == 0.0) {
-                const double ta = -0.5 * kPiDouble + (k - 1) * (kPiDouble / kCells);
-                const double tb = ta + kPiDouble / kCells;
-                double theta;
-                if (refine(ta, h_prev, tb, h, theta)) {
-                    if (n == 0 || theta - out[n - 1].theta > 1e-12) {
-                        if (make_root(theta, out[n])) ++n;
-                    }
-                }
+            // A sign change with y behind the exit ray at both ends is a backward root: a root
+            // where y is ahead lies within the cell only if the exit ray turns by more than
+            // π/2 across it, which no cell away from grazing incidence does.
+            if (((h_prev < 0.0) != (h < 0.0) || h == 0.0) && (along[k - 1] > 0.0 || along[k] > 0.0)) {
+                const double s = refine(t.s[k - 1], h_prev, t.s[k], h);
+                if ((n == 0 || s - out[n - 1].sin_theta > 1e-12) && make_root(s, out[n])) ++n;
             }
             h_prev = h;
         }
@@ -199,11 +198,12 @@ public:
     }
 
     /// Builds the root at θ (false when y is not ahead of the exit ray there).
-    bool make_root(double theta, SphereChainRoot& r) const {
-        const double s = std::sin(theta), c = std::cos(theta);
+    bool make_root(double s, SphereChainRoot& r) const {
+        const double c = std::sqrt(std::max(0.0, 1.0 - s * s));
         const Eval e = eval(s, c);
         if (!(e.along > 0.0) || !(std::fabs(e.h) < 1e-9)) return false;
-        r.theta = theta;
+        r.sin_theta = s;
+        r.theta = std::asin(s);
         r.wx = m_e1 * e.ca + m_e2 * e.sa;
         // Entry at polar angle φ1 = π + α − θ about c.
         const double er = -(e.ca * c + e.sa * s), ei = -(e.sa * c - e.ca * s);
@@ -231,19 +231,22 @@ public:
     }
 
 private:
-    /// Newton's method on g in [ta, tb] (g(ta) and g(tb) of opposite signs), each step kept
-    /// inside the bracket (else bisection).
-    bool refine(double ta, double ha, double tb, double hb, double& theta) const {
-        if (hb == 0.0) return theta = tb, true;
-        double t = 0.5 * (ta + tb);
+    /// The root of g in [ta, tb] (sines of θ; g(ta) and g(tb) of opposite signs): Newton's
+    /// method from the secant's guess, each step kept inside the bracket (else bisection).
+    /// Working in s = sin θ needs no trigonometry: cos θ = √(1 − s²), dg/ds = g'(θ)/cos θ.
+    double refine(double ta, double ha, double tb, double hb) const {
+        if (hb == 0.0) return tb;
+        double t = ta + (tb - ta) * (ha / (ha - hb));
+        if (!(t > ta && t < tb)) t = 0.5 * (ta + tb);
         for (int it = 0; it < 60; ++it) {
-            const Eval e = eval(std::sin(t), std::cos(t));
+            const double c = std::sqrt(std::max(0.0, 1.0 - t * t));
+            const Eval e = eval(t, c);
             if (e.g == 0.0) break;
             if ((e.g < 0.0) == (ha < 0.0)) ta = t, ha = e.g;
             else tb = t;
             if (tb - ta < 1e-13) break;
             double next = 0.5 * (ta + tb);
-            const double step = e.g / e.dg;
+            const double step = e.g * c / e.dg;
             const double tn = t - step;
             if (std::isfinite(tn) && tn > ta && tn < tb) next = tn;
             if (std::fabs(step) < 1e-13) {  // converged: t − step, kept in the bracket
@@ -252,8 +255,7 @@ private:
             }
             t = next;
         }
-        theta = t;
-        return true;
+        return t;
     }
 
     DVec3 m_x, m_c, m_e1, m_e2;

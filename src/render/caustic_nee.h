@@ -117,7 +117,7 @@ inline bool caustic_segment_blocked(const Scene& scene, const Vec3& a, const Vec
     Vec3 y, n_y;
     float pdf_area = 0.f;
     if (!caustic_light_sample(scene, gs, light, u1, u2, y, n_y, pdf_area)) return SampledSpectrum(0.f);
-    const SphereChain chain(DVec3(hit.p), DVec3(glass.center), glass.radius, gs.nodes, DVec3(y));
+    const SphereChain chain(DVec3(hit.p), DVec3(glass.center), glass.radius, *gs.nodes, DVec3(y));
     SphereChainRoot roots[SphereChain::kMaxRoots];
     const int n = chain.solve(roots);
     if (n == 0) return SampledSpectrum(0.f);
@@ -185,7 +185,7 @@ struct CausticChainState {
     const Sphere& glass = scene.spheres[static_cast<std::size_t>(gs.sphere)];
     const float pdf_area = caustic_light_area_pdf(scene, gs, light, hit.p);
     if (!(pdf_area > 0.f)) return 1.f;
-    const SphereChain chain(DVec3(s.x), DVec3(glass.center), glass.radius, gs.nodes, DVec3(hit.p));
+    const SphereChain chain(DVec3(s.x), DVec3(glass.center), glass.radius, *gs.nodes, DVec3(hit.p));
     SphereChainRoot roots[SphereChain::kMaxRoots];
     const int n = chain.solve(roots);
     // The path's root: its direction within float rounding of the path's (roots of one

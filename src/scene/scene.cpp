@@ -9,6 +9,7 @@
 #include <type_traits>
 
 #include "geometry/aabb.h"
+#include "geometry/sphere_caustics.h"
 #include "scene/material_types.h"
 
 namespace spt {
@@ -459,7 +460,7 @@ void Scene::find_caustic_spheres() {
             continue;
         }
         if (!(c.eta > 1.f)) continue;  // the solver's contract (η = 1: no refraction; < 1: not handled)
-        c.nodes = SphereChainNodes(c.eta);
+        c.nodes = std::make_shared<const SphereChainNodes>(c.eta);
         caustic_spheres.push_back(c);
     }
     if (caustic_spheres.empty()) return;

@@ -1,6 +1,7 @@
 // A renderable scene: camera, shapes in flat typed arrays, materials by index, lights.
 #pragma once
 #include <array>
+#include <memory>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -15,7 +16,6 @@
 #include "geometry/instanced_mesh.h"
 #include "geometry/plane.h"
 #include "geometry/sphere.h"
-#include "geometry/sphere_caustics.h"
 #include "geometry/sphere_lanes.h"
 #include "geometry/triangle.h"
 #include "model/camera.h"
@@ -58,6 +58,8 @@ struct ShadowSkip {
     int planar_light = -1;
 };
 
+struct SphereChainNodes;  // geometry/sphere_caustics.h
+
 /// A smooth, non-dispersive glass sphere that specular next-event estimation sees through
 /// (render/caustic_nee.h): its material is clear glass (LobeMixBsdf with only kt and a
 /// constant index, or a smooth DielectricBsdf without a film and with a constant index), it
@@ -67,7 +69,7 @@ struct CausticSphere {
     float eta = 1.f;  ///< index inside relative to outside, > 1
     /// What each refraction multiplies the path by besides Fresnel (kt; 1 for a dielectric).
     Spectrum kt;
-    SphereChainNodes nodes;  ///< the chain solver's table for eta
+    std::shared_ptr<const SphereChainNodes> nodes;  ///< the chain solver's table for eta
 };
 
 struct Scene {
