@@ -225,5 +225,21 @@ TEST(SphereCaustics, SpecularNextEventEstimationIsUnbiasedAndPlantedBugsAreCaugh
     }
 }
 
+TEST(SphereCaustics, FilmIsTheSameWhateverTheThreadCount) {
+    std::optional<Scene> scene = load_builtin_scene("cornell-sphere", {});
+    ASSERT_TRUE(scene.has_value());
+    for (const SamplerKind sampler : {SamplerKind::independent, SamplerKind::sobol}) {
+        RenderSettings rs = test::small_settings(32, 32, 8, 7, 1);
+        rs.sampler = sampler;
+        const auto one = test::render_film(*scene, rs);
+        EXPECT_EQ(test::count_bad_pixels(*one), 0);
+        EXPECT_EQ(one->rejected_samples(), 0u);
+        for (const int threads : {2, 7}) {
+            rs.threads = threads;
+            EXPECT_EQ(test::count_differences(*one, *test::render_film(*scene, rs)), 0u) << threads << " threads";
+        }
+    }
+}
+
 }  // namespace
 }  // namespace spt
