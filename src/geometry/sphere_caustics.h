@@ -217,9 +217,9 @@ public:
         return true;
     }
 
-    /// The index of the root among `roots` whose direction leaving x is within `tolerance`
-    /// (radians of θ-equivalent: compared by α, the angle from the axis, in the plane) of w,
-    /// or −1. For weighting a path that BSDF sampling found against this solver.
+    /// The index of the root among `roots` whose direction leaving x is nearest to the unit
+    /// vector w, if within `tolerance` (distance between unit vectors, about the angle), or −1.
+    /// For weighting a path that BSDF sampling found against this solver.
     static int find_matching_root(const SphereChainRoot* roots, int n, const DVec3& w, double tolerance) {
         int best = -1;
         double best_d = tolerance;
