@@ -46,11 +46,12 @@
 // sign is refined by Newton's method safeguarded by bisection, in double, to |Δθ| < 1e-13.
 // Sign changes where y lies behind the exit ray (e(β)·(y − P2) < 0) are roots of g but not
 // chains: rejected after refinement. A root is missed only when its cell holds an even
-// number of sign changes: two roots closer than π/kCells = 0.098 rad in θ, which happens
+// number of sign changes: two roots closer than π/kCells = 0.196 rad in θ, which happens
 // near a fold (where two roots merge) or, for a forward and a backward root, with y close to
-// the sphere. kCells = 32: the count test (dense scan of 20 000 cells, 3000 random
-// configurations, tests/test_sphere_caustics.cpp) misses none of 777 roots; at 16 it missed
-// 4, all in pairs at folds. The caller stays exact regardless: the BSDF-sampling side of MIS
+// the sphere. kCells = 16: the count test (dense scan of 20 000 cells, 3000 random
+// configurations, tests/test_sphere_caustics.cpp) misses 4 of 777 roots, all in pairs at
+// folds (32 cells miss none, but cost 10 % more time per path on cornell-sphere and
+// cornell-quad for a relMSE equal within the noise). The caller stays exact regardless: the BSDF-sampling side of MIS
 // asks this same solver whether it would have found the path's root (find_matching_root)
 // and gives weight 1 when not.
 //
@@ -82,7 +83,7 @@ struct SphereChainRoot {
 /// What the grid of θ needs that depends on θ and η alone, per node θ_k = −π/2 + k·π/kCells:
 /// sin θ and the unit complex numbers e^{i(2θt − 2θ)} and e^{i(2θt − θ)}.
 struct SphereChainNodes {
-    static constexpr int kCells = 32;
+    static constexpr int kCells = 16;
     double eta = 0;
     double s[kCells + 1], q2r[kCells + 1], q2i[kCells + 1], pr[kCells + 1], pi[kCells + 1];
 
