@@ -226,6 +226,7 @@ int run(const spt::Options& opt) {
     const std::string variant = "wavelengths-per-path=" + std::to_string(opt.wavelengths_per_path) +
                                 light_sampling[static_cast<int>(rs.integrator.light_sampling)] +
                                 (rs.sampler == spt::SamplerKind::sobol ? " sampler=sobol" : "") +
+                                (rs.integrator.caustic_nee ? "" : " caustic-nee=off") +
                                 " dispersion=" + (opt.dispersion ? "on" : "off") +
                                 (kind == spt::IntegratorKind::path ? std::string()
                                     : std::string(" integrator=") + spt::integrator_name(kind)) +
@@ -399,6 +400,7 @@ int run_merge(const std::vector<std::string>& args) {
     rs.integrator.wavelengths_per_path = variant.starts_with("wavelengths-per-path=1") ? 1 : 4;
     rs.sampler = variant.find(" sampler=sobol") != std::string::npos ? spt::SamplerKind::sobol
                                                                       : spt::SamplerKind::independent;
+    rs.integrator.caustic_nee = variant.find(" caustic-nee=off") == std::string::npos;
     spt::RenderStats stats;
     stats.samples_completed = merged.samples;
     std::vector<spt::ExrAttribute> metadata = spt::render_metadata(opt, rs, stats, merged.film->observer());

@@ -85,8 +85,11 @@ TEST(ParallelStrategies, WavefrontMatchesTheTileScheduleOnEveryFeatureItSupports
     for (const char* name : {"cornell-quad", "cornell-sphere", "frosted-glass", "metal-spheres", "thin-films",
                              "motion", "bokeh", "colorchecker"}) {
         const Scene& scene = builtin(name);
-        ASSERT_EQ(wavefront_unsupported(scene, IntegratorSettings{}, SamplerKind::independent), nullptr) << name;
         RenderSettings rs = small_settings();
+        // The wavefront does not carry specular next-event estimation through glass spheres
+        // (cornell-sphere, cornell-quad): compared without it.
+        rs.integrator.caustic_nee = false;
+        ASSERT_EQ(wavefront_unsupported(scene, rs.integrator, SamplerKind::independent), nullptr) << name;
         const auto reference = test::render_film(scene, rs);
         rs.schedule = Schedule::wavefront;
         rs.threads = 2;
@@ -113,6 +116,7 @@ TEST(ParallelStrategies, WavefrontFollowsEveryPathIntegratorSetting) {
     for (const char* name : {"cornell", "cornell-sphere"})
         for (const Variant& v : variants) {
             RenderSettings rs = small_settings();
+            rs.integrator.caustic_nee = false;  // not carried by the wavefront
             v.apply(rs.integrator);
             const auto reference = test::render_film(builtin(name), rs);
             rs.schedule = Schedule::wavefront;
@@ -130,6 +134,10 @@ TEST(ParallelStrategies, WavefrontRefusesWhatItDoesNotRender) {
     EXPECT_NE(wavefront_unsupported(builtin("cornell-fog"), IntegratorSettings{}, pcg), nullptr);
     EXPECT_NE(wavefront_unsupported(builtin("textured"), IntegratorSettings{}, pcg), nullptr);
     EXPECT_NE(wavefront_unsupported(builtin("cornell"), IntegratorSettings{}, SamplerKind::sobol), nullptr);
+    EXPECT_NE(wavefront_unsupported(builtin("cornell-sphere"), IntegratorSettings{}, pcg), nullptr);
+    IntegratorSettings no_caustics;
+    no_caustics.caustic_nee = false;
+    EXPECT_EQ(wavefront_unsupported(builtin("cornell-sphere"), no_caustics, pcg), nullptr);
     RenderSettings rs = small_settings();
     rs.schedule = Schedule::wavefront;
     Film film(rs.width, rs.height);

@@ -69,7 +69,7 @@ const std::vector<std::string>& known_flags() {
         "--spectral-range", "--sensor", "--preview-interval", "--display-server", "--threads", "--tile", "--queue",
         "--schedule", "--seed",
         "--checkpoint", "--resume", "--checkpoint-interval", "--time-limit", "--wavelengths-per-path",
-        "--integrator", "--light-sampling", "--merge-radius", "--no-dispersion", "--pass-spp", "--max-depth",
+        "--integrator", "--light-sampling", "--caustic-nee", "--merge-radius", "--no-dispersion", "--pass-spp", "--max-depth",
         "--passes", "--print-passes", "--sampler"};
     return flags;
 }
@@ -154,6 +154,9 @@ Options:
                          multiple importance sampling), bsdf (emitters found only by paths
                          that hit them) or light (light sampling alone); to measure what MIS
                          buys. Point lights are always sampled
+  --caustic-nee on|off   path with --light-sampling mis: specular next-event estimation
+                         through smooth glass spheres (caustics of emitting spheres and
+                         quads under glass balls, weighted by MIS; default on)
   --merge-radius R       vcm: merging radius of the first pass in scene units (default:
                          five pixel footprints at the median distance the camera sees,
                          less where a pilot finds photons dense; at most 1% of the scene)
@@ -373,6 +376,11 @@ Options parse_options(const std::vector<std::string>& args) {
             if (!o.light_sampling)
                 throw UsageError(flag + ": expected mis, bsdf or light, got '" + v + "'." +
                                  suggestion(v, light_sampling_names()));
+        } else if (flag == "--caustic-nee") {
+            const std::string v = next_value();
+            if (v != "on" && v != "off")
+                throw UsageError(flag + ": expected on or off, got '" + v + "'." + suggestion(v, {"on", "off"}));
+            o.caustic_nee = v == "on";
         } else if (flag == "--merge-radius") {
             o.merge_radius = parse_real(flag, next_value(), 1e-12, 1e12, "a radius from 1e-12 to 1e12");
         } else if (flag == "--no-dispersion") {

@@ -22,6 +22,11 @@ inline constexpr int kBsdfU = 4, kBsdfV = 5;      ///< the BSDF's direction
 inline constexpr int kRoulette = 6;               ///< Russian roulette
 inline constexpr int kBounceDims = 7;
 
+/// Specular next-event estimation through glass spheres (render/caustic_nee.h) draws its four
+/// numbers (sphere, light, point on it) from here: a dimension past every sampler's matrices,
+/// so they come from the sample's PCG stream and the bounce blocks above stay as they were.
+inline constexpr int kCausticNee = 1 << 20;
+
 /// The dimension of `offset` in the block of bounce `depth` (0: the first hit).
 constexpr int bounce(int depth, int offset) { return kCameraDims + depth * kBounceDims + offset; }
 

@@ -7,6 +7,7 @@
 #include "core/sample_dimensions.h"
 #include "core/sobol_sampler.h"
 #include "model/bsdfs/bsdf.h"
+#include "render/caustic_nee.h"
 #include "render/direct_light.h"
 #include "render/light_context.h"
 #include "render/mis.h"
@@ -81,10 +82,12 @@ struct NoScratch {};
 
 /// The path loop. kTextured (scenes with textures only): materials with textures take their
 /// BSDF from the scene at each hit, and emitters their radiance; without, this is the loop
-/// of before, unchanged. Sampler: Rng (independent numbers, drawn in sequence) or
+/// of before, unchanged. kCaustic (scenes with Effects::caustic_spheres, light sampling mis):
+/// specular next-event estimation through glass spheres and the MIS weight of the emission
+/// it competes with (render/caustic_nee.h); without, the loop of before. Sampler: Rng (independent numbers, drawn in sequence) or
 /// SobolSampler (each number from its dimension of core/sample_dimensions.h; for Rng the
 /// seek_dimension calls are no-ops and the loop is the one of before).
-template <bool kTextured, class Sampler>
+template <bool kTextured, bool kCaustic, class Sampler>
 [[gnu::always_inline]] inline SampledSpectrum path_loop(const Scene& scene, const IntegratorSettings& settings,
                                                         Ray ray, float time, SampledWavelengths& lambda,
                                                         Sampler& rng, PathStats& stats) {
@@ -104,6 +107,7 @@ template <bool kTextured, class Sampler>
     bool mis_emission = false;
     float prev_pdf = 0.f;
     LightSampleContext prev_ctx;
+    [[maybe_unused]] std::conditional_t<kCaustic, CausticChainState, NoScratch> chain;
     for (int depth = 0;; ++depth) {
         // ---- Find the next vertex; escaping rays see the environment ----
         ++stats.rays;
@@ -122,8 +126,11 @@ template <bool kTextured, class Sampler>
 
         // ---- Emission found by the path ----
         if (hit->light >= 0) {
-            const float w =
+            float w =
                 mis_emission ? emission_weight(scene, choices, hit->light, prev_ctx, prev_pdf, ray.d, &*hit) : 1.f;
+            if constexpr (kCaustic)
+                if (chain.stage == CausticChainState::out)
+                    w = caustic_emission_weight(scene, chain, *hit, hit->light, settings.caustic_nee_bug);
             if constexpr (kTextured) L += beta * scene.emitted_textured(*hit, lambda) * w;
             else L += beta * scene.emitted(*hit, lambda) * w;
         }
@@ -145,6 +152,20 @@ template <bool kTextured, class Sampler>
             L += beta * sample_area_light<kTextured>(scene, choices, bsdf, *hit, ctx, wo, lambda, time, ul, ul1, ul2,
                                           settings.light_sampling == LightSampling::mis, stats);
         }
+        // ---- Specular next-event estimation through a glass sphere, where BSDF sampling
+        // could reach the same path before max_depth (its two refractions are bounces depth + 1
+        // and depth + 2) ----
+        [[maybe_unused]] bool caustic_here = false;
+        if constexpr (kCaustic) {
+            caustic_here = non_delta && (settings.max_depth == IntegratorSettings::kUnbounded ||
+                                         depth + 2 < settings.max_depth);
+            if (caustic_here) {
+                seek_dimension(rng, dims::kCausticNee);
+                const float us = rng.uniform(), ul = rng.uniform(), u1 = rng.uniform(), u2 = rng.uniform();
+                L += beta * sample_caustic_nee(scene, bsdf, *hit, wo, lambda, time, us, ul, u1, u2,
+                                               settings.caustic_nee_bug, stats);
+            }
+        }
 
         // ---- Continue the path ----
         seek_dimension(rng, dims::bounce(depth, dims::kBsdfLobe));
@@ -154,6 +175,22 @@ template <bool kTextured, class Sampler>
         if (!bs) break;
         beta *= bs->weight;
         eta_scale *= bs->eta_scale;
+        if constexpr (kCaustic) {
+            // Where the sampled path stands on a chain x → in → out → emitter.
+            const bool refracted = bs->is_delta() && bs->flags.has(BsdfFlags::transmission);
+            if (!bs->is_delta() && caustic_here) {
+                chain.stage = CausticChainState::left_x;
+                chain.x = hit->p, chain.wx = bs->wi, chain.pdf_x = bs->pdf;
+            } else if (chain.stage == CausticChainState::left_x && refracted && dot(wo, hit->n) > 0.f &&
+                       (chain.sphere = CausticChainState::caustic_sphere_at(scene, *hit)) >= 0) {
+                chain.stage = CausticChainState::inside;
+            } else if (chain.stage == CausticChainState::inside && refracted && dot(wo, hit->n) < 0.f &&
+                       CausticChainState::caustic_sphere_at(scene, *hit) == chain.sphere) {
+                chain.stage = CausticChainState::out;
+            } else {
+                chain.stage = CausticChainState::none;
+            }
+        }
         ray = spawn_ray(*hit, bs->wi);
         if (area_nee) {
             mis_emission = !bs->is_delta() && settings.light_sampling == LightSampling::mis;
@@ -183,7 +220,18 @@ template <class Sampler>
 [[gnu::noinline]] SampledSpectrum textured_path(const Scene& scene, const IntegratorSettings& settings, Ray ray,
                                                 float time, SampledWavelengths& lambda, Sampler& rng,
                                                 PathStats& stats) {
-    return path_loop<true>(scene, settings, ray, time, lambda, rng, stats);
+    if (scene.effects.caustic_spheres && settings.caustic_nee && settings.light_sampling == LightSampling::mis)
+        return path_loop<true, true>(scene, settings, ray, time, lambda, rng, stats);
+    return path_loop<true, false>(scene, settings, ray, time, lambda, rng, stats);
+}
+
+/// Scenes with glass spheres that specular next-event estimation sees through, out of line
+/// like the textured loop: every other scene keeps the loop of before.
+template <class Sampler>
+[[gnu::noinline]] SampledSpectrum caustic_path(const Scene& scene, const IntegratorSettings& settings, Ray ray,
+                                               float time, SampledWavelengths& lambda, Sampler& rng,
+                                               PathStats& stats) {
+    return path_loop<false, true>(scene, settings, ray, time, lambda, rng, stats);
 }
 
 }  // namespace
@@ -198,7 +246,9 @@ template <class Sampler>
                                                   float time, SampledWavelengths& lambda, Rng& rng, PathStats& stats) {
     // Textured scenes take their own instance of the loop, out of line.
     if (scene.effects.textures) [[unlikely]] return textured_path(scene, settings, ray, time, lambda, rng, stats);
-    return path_loop<false>(scene, settings, ray, time, lambda, rng, stats);
+    if (scene.effects.caustic_spheres && settings.caustic_nee && settings.light_sampling == LightSampling::mis)
+        [[unlikely]] return caustic_path(scene, settings, ray, time, lambda, rng, stats);
+    return path_loop<false, false>(scene, settings, ray, time, lambda, rng, stats);
 }
 #pragma GCC diagnostic pop
 
@@ -207,7 +257,9 @@ template <class Sampler>
                                              float time, SampledWavelengths& lambda, SobolSampler& sampler,
                                              PathStats& stats) {
     if (scene.effects.textures) [[unlikely]] return textured_path(scene, settings, ray, time, lambda, sampler, stats);
-    return path_loop<false>(scene, settings, ray, time, lambda, sampler, stats);
+    if (scene.effects.caustic_spheres && settings.caustic_nee && settings.light_sampling == LightSampling::mis)
+        [[unlikely]] return caustic_path(scene, settings, ray, time, lambda, sampler, stats);
+    return path_loop<false, false>(scene, settings, ray, time, lambda, sampler, stats);
 }
 
 }  // namespace spt

@@ -15,6 +15,10 @@
 
 namespace spt {
 
+/// Planted bugs of specular next-event estimation, for its unbiasedness test only (the test
+/// must catch each): the BSDF side's MIS weight dropped (1), or the Jacobian's cos θ_y.
+enum class CausticNeeBug : std::uint8_t { none, no_bsdf_side_weight, no_cos_y };
+
 struct IntegratorSettings {
     static constexpr int kUnbounded = -1;
     IntegratorKind kind = IntegratorKind::path;
@@ -45,6 +49,10 @@ struct IntegratorSettings {
     /// and t = 1 each estimate the whole image on their own (but the emitter seen directly,
     /// s = 0 and t = 2, which is kept in every class), so a strategy that is wrong alone shows.
     int bdpt_only_s = -1, bdpt_only_t = -1;
+    /// path with light_sampling mis: specular next-event estimation through smooth glass
+    /// spheres (render/caustic_nee.h) in scenes that have them (Effects::caustic_spheres).
+    bool caustic_nee = true;
+    CausticNeeBug caustic_nee_bug = CausticNeeBug::none;  ///< tests only
 };
 
 struct PathStats {

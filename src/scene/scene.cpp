@@ -9,6 +9,7 @@
 #include <type_traits>
 
 #include "geometry/aabb.h"
+#include "geometry/sphere_caustics.h"
 #include "scene/material_types.h"
 
 namespace spt {
@@ -434,6 +435,50 @@ void Scene::finalize() {
             effects.textures = true;
         }
     }
+    find_caustic_spheres();
+}
+
+void Scene::find_caustic_spheres() {
+    caustic_spheres.clear();
+    caustic_light_choice = LightDistribution{};
+    if (effects.media) return;  // the volumetric path tracer does not use them
+    for (std::size_t i = 0; i < spheres.size(); ++i) {
+        const Sphere& s = spheres[i];
+        const Material& m = materials[s.material];
+        if (s.light >= 0 || m.textured || !(s.radius > 0.f)) continue;
+        CausticSphere c;
+        c.sphere = static_cast<int>(i);
+        if (const LobeMixBsdf* b = std::get_if<LobeMixBsdf>(&m.bsdf)) {
+            if (b->has_diffuse() || b->has_mirror() || !b->has_transmission() || !b->eta.is_constant()) continue;
+            c.eta = b->eta.eval(560.f);
+            c.kt = b->kt;
+        } else if (const DielectricBsdf* d = std::get_if<DielectricBsdf>(&m.bsdf)) {
+            if (!d->ggx.is_smooth() || d->film.present() || d->is_dispersive()) continue;
+            c.eta = d->eta.eval(560.f);
+            c.kt = Spectrum(SpectrumSource::constant(1.0), SpectralResolution{});
+        } else {
+            continue;
+        }
+        if (!(c.eta > 1.f)) continue;  // the solver's contract (η = 1: no refraction; < 1: not handled)
+        c.nodes = std::make_shared<const SphereChainNodes>(c.eta);
+        caustic_spheres.push_back(c);
+    }
+    if (caustic_spheres.empty()) return;
+    std::vector<float> power(lights.size(), 0.f);
+    bool any = false;
+    for (std::size_t i = 0; i < lights.size(); ++i) {
+        if (light_textured(static_cast<int>(i))) continue;
+        if (std::holds_alternative<SphereLight>(lights[i]) || std::holds_alternative<QuadLight>(lights[i])) {
+            power[i] = light_power(lights[i]);
+            any |= power[i] > 0.f;
+        }
+    }
+    if (!any) {
+        caustic_spheres.clear();
+        return;
+    }
+    caustic_light_choice.build(power);
+    effects.caustic_spheres = true;
 }
 
 void Scene::finalize_media() {

@@ -1,6 +1,7 @@
 // A renderable scene: camera, shapes in flat typed arrays, materials by index, lights.
 #pragma once
 #include <array>
+#include <memory>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -55,6 +56,20 @@ struct ShadowSkip {
     /// A planar light (a quad) whose triangles are skipped, or −1: a segment that ends on a
     /// plane and does not lie in it meets the plane only at its end.
     int planar_light = -1;
+};
+
+struct SphereChainNodes;  // geometry/sphere_caustics.h
+
+/// A smooth, non-dispersive glass sphere that specular next-event estimation sees through
+/// (render/caustic_nee.h): its material is clear glass (LobeMixBsdf with only kt and a
+/// constant index, or a smooth DielectricBsdf without a film and with a constant index), it
+/// does not emit and does not move.
+struct CausticSphere {
+    int sphere = -1;  ///< index in Scene::spheres
+    float eta = 1.f;  ///< index inside relative to outside, > 1
+    /// What each refraction multiplies the path by besides Fresnel (kt; 1 for a dielectric).
+    Spectrum kt;
+    std::shared_ptr<const SphereChainNodes> nodes;  ///< the chain solver's table for eta
 };
 
 struct Scene {
@@ -126,6 +141,11 @@ struct Scene {
     LightDistribution area_light_choice;
     LightDistribution area_light_choice_with_planes;
     int environment_index = -1;
+    /// Derived by finalize() for specular next-event estimation (effects.caustic_spheres):
+    /// the glass spheres it sees through, and the lights it samples by area (emitting spheres
+    /// and quads without an emission texture) chosen by power.
+    std::vector<CausticSphere> caustic_spheres;
+    LightDistribution caustic_light_choice;
     Vec3 bounds_center;
     float bounds_radius = 1.f;
 
@@ -311,6 +331,8 @@ private:
     void finalize_lights();
     /// Checks the media (coefficients, g, boxes) and that every shape has its interface.
     void finalize_media();
+    /// Finds caustic_spheres and caustic_light_choice, and sets effects.caustic_spheres.
+    void find_caustic_spheres();
     static Hit with_prim(Hit hit, ShapeKind kind, std::ptrdiff_t index) {
         hit.prim = PrimId(kind, static_cast<std::uint32_t>(index));
         return hit;

@@ -1,0 +1,205 @@
+// Specular next-event estimation through smooth glass spheres: caustics (light → glass ball
+// → diffuse surface → eye) sampled from the diffuse vertex instead of waiting for BSDF
+// sampling to hit a small light through the ball (fireflies). Exact, without clamping:
+//
+//   At a vertex x with a non-delta lobe, one glass sphere of Scene::caustic_spheres is chosen
+//   uniformly (probability P_s = 1/N) and one light of Scene::caustic_light_choice by power
+//   (P_l); a point y on it is sampled by area: uniformly over a quad (p_A = 1/area), or over the
+//   cap of an emitting sphere that any point of the glass ball can see (z = cos of the angle
+//   at the light's centre from the direction to the ball's centre, z ≥ (r − R)/|c − c_L|: a
+//   point of the light below that cap faces away from the whole ball; p_A = 1/cap area). The
+//   chain x → refract in → refract out → y is then solved for all its roots
+//   (geometry/sphere_caustics.h), and each root contributes
+//     f(x, ω)·|cos| · kt²·T_in·T_out · Le(y) · |dω_x/dA_y| / (P_s·P_l·p_A(y)) · w_snee
+//   when the three segments (x → entry, the chord, exit → y) are clear (each tested over its
+//   interior, shortened by 1e-4 of its length at each end: the glass sphere and the light
+//   they end on cannot block them). T = 1 − F is the renderer's Fresnel (fresnel_dielectric,
+//   the function both glass BSDFs sample their lobe by). The radiance scaling of the two
+//   refractions cancels (1/η² in, η² out).
+//
+//   MIS (power heuristic, Veach 1997 §9.2) against BSDF sampling of the same path, whose
+//   density is p_bsdf(ω_x)·(1 − F_in)·(1 − F_out) (the glass samples transmission with
+//   probability 1 − F at the hero, which for a constant index is every wavelength's), while
+//   this strategy's is p_snee = P_s·P_l·p_A(y)/|dω_x/dA_y|. The path loop, when its BSDF
+//   sampling goes x (non-delta) → refract into a caustic sphere → refract out of it → an
+//   emitter, weights that emission by p_chain²/(p_chain² + p_snee²) — but only if this solver,
+//   given the same x and y, returns the path's root (emission_weight below asks it): a root
+//   the grid misses near a fold keeps weight 1 on the BSDF side, so the sum stays exact.
+//   Paths that this strategy cannot produce keep the weights of before: emission after other
+//   delta chains (weight 1), lights it does not sample (mesh, disk and plane lights, the
+//   environment, textured emitters, point lights), dispersive or rough glass, reflections off
+//   the sphere (D-R-L) and internal reflections (TRT...). Media scenes: not used.
+//
+//   It runs only with --light-sampling mis (the default) and only where the BSDF sampling of
+//   the path could reach the same path before --max-depth: x at depth d with d + 2 <
+//   max_depth (the two refractions are bounces d + 1 and d + 2).
+#pragma once
+#include <cmath>
+
+#include "geometry/sphere_caustics.h"
+#include "model/bsdfs/bsdf.h"
+#include "model/bsdfs/fresnel.h"
+#include "render/integrator.h"
+#include "render/mis.h"
+#include "scene/scene.h"
+
+namespace spt {
+
+/// The density per unit area with which the strategy samples y on light `index` for glass
+/// sphere `gs` (0 when the light is not one it samples by area, or y is outside its cap).
+inline float caustic_light_area_pdf(const Scene& scene, const CausticSphere& gs, int index, const Vec3& y) {
+    const Light& light = scene.lights[static_cast<std::size_t>(index)];
+    if (const QuadLight* q = std::get_if<QuadLight>(&light)) return 1.f / q->area();
+    if (const SphereLight* s = std::get_if<SphereLight>(&light)) {
+        const Sphere& glass = scene.spheres[static_cast<std::size_t>(gs.sphere)];
+        const Vec3 axis = glass.center - s->sphere.center;
+        const float dist = length(axis);
+        const float r = s->sphere.radius;
+        const float z_min = std::max(-1.f, (r - glass.radius) / dist);
+        const float z = dot(y - s->sphere.center, axis) / (dist * r);
+        if (z < z_min) return 0.f;
+        return 1.f / (2.f * kPi * r * r * (1.f - z_min));
+    }
+    return 0.f;
+}
+
+/// A point y on light `index` sampled by area for glass sphere `gs`, with its normal and
+/// density; false when the light is not one the strategy samples.
+inline bool caustic_light_sample(const Scene& scene, const CausticSphere& gs, int index, float u1, float u2, Vec3& y,
+                                 Vec3& n, float& pdf_area) {
+    const Light& light = scene.lights[static_cast<std::size_t>(index)];
+    if (const QuadLight* q = std::get_if<QuadLight>(&light)) {
+        y = q->o + q->e1 * u1 + q->e2 * u2;
+        n = q->n;
+        pdf_area = 1.f / q->area();
+        return true;
+    }
+    if (const SphereLight* s = std::get_if<SphereLight>(&light)) {
+        const Sphere& glass = scene.spheres[static_cast<std::size_t>(gs.sphere)];
+        const Vec3 axis = glass.center - s->sphere.center;
+        const float dist = length(axis);
+        const float r = s->sphere.radius;
+        const float z_min = std::max(-1.f, (r - glass.radius) / dist);
+        // Uniform over the cap z ≥ z_min about the axis (area 2πr²(1 − z_min)).
+        const float z = 1.f - u1 * (1.f - z_min);
+        const float sz = std::sqrt(std::max(0.f, 1.f - z * z));
+        const float phi = 2.f * kPi * u2;
+        const Frame f(axis / dist);
+        n = f.to_world(Vec3(sz * std::cos(phi), sz * std::sin(phi), z));
+        y = s->sphere.center + n * r;
+        pdf_area = 1.f / (2.f * kPi * r * r * (1.f - z_min));
+        return true;
+    }
+    return false;
+}
+
+/// The shadow test of the segment a → b over its interior (1e-4 of its length off each end).
+inline bool caustic_segment_blocked(const Scene& scene, const Vec3& a, const Vec3& b, float time) {
+    const Vec3 d = b - a;
+    const float len = length(d);
+    if (!(len > 0.f)) return true;
+    const Vec3 w = d / len;
+    return scene.occluded(Ray{a + w * (1e-4f * len), w, len * (1.f - 2e-4f)}, {}, time);
+}
+
+/// The strategy's contribution at vertex `hit` (BSDF `bsdf`, outgoing wo); see the header.
+/// u_sphere, u_light: the choices; u1, u2: the point on the light.
+[[gnu::noinline]] inline SampledSpectrum sample_caustic_nee(const Scene& scene, const Bsdf& bsdf, const Hit& hit,
+                                                            const Vec3& wo, const SampledWavelengths& lambda,
+                                                            float time, float u_sphere, float u_light, float u1,
+                                                            float u2, CausticNeeBug bug, PathStats& stats) {
+    const int n_spheres = static_cast<int>(scene.caustic_spheres.size());
+    const int k = std::min(static_cast<int>(u_sphere * static_cast<float>(n_spheres)), n_spheres - 1);
+    const CausticSphere& gs = scene.caustic_spheres[static_cast<std::size_t>(k)];
+    const Sphere& glass = scene.spheres[static_cast<std::size_t>(gs.sphere)];
+    float choice = 0.f;
+    const int light = scene.caustic_light_choice.sample(u_light, choice);
+    Vec3 y, n_y;
+    float pdf_area = 0.f;
+    if (!caustic_light_sample(scene, gs, light, u1, u2, y, n_y, pdf_area)) return SampledSpectrum(0.f);
+    const SphereChain chain(DVec3(hit.p), DVec3(glass.center), glass.radius, *gs.nodes, DVec3(y));
+    SphereChainRoot roots[SphereChain::kMaxRoots];
+    const int n = chain.solve(roots);
+    if (n == 0) return SampledSpectrum(0.f);
+    const bool sphere_light = std::holds_alternative<SphereLight>(scene.lights[static_cast<std::size_t>(light)]);
+    const float p_choice = choice * pdf_area / static_cast<float>(n_spheres);
+    SampledSpectrum sum(0.f);
+    for (int i = 0; i < n; ++i) {
+        const SphereChainRoot& r = roots[i];
+        const Vec3 wx = r.wx.to_float(), w_exit = r.w_exit.to_float();
+        // The emitter must face the arriving ray (a sphere light emits from its outside).
+        const float cos_y_signed = dot(n_y, w_exit);
+        if (sphere_light && !(cos_y_signed < 0.f)) continue;
+        const float cos_y = bug == CausticNeeBug::no_cos_y ? 1.f : std::fabs(cos_y_signed);
+        const float dw_dA = static_cast<float>(r.dw_dAperp) * cos_y;
+        if (!(dw_dA > 0.f) || !std::isfinite(dw_dA)) continue;
+        const SampledSpectrum f_cos = bsdf_eval(bsdf, wo, wx, hit.ns, lambda, TransportMode::radiance);
+        if (f_cos.is_zero()) continue;
+        const float t_in = 1.f - fresnel_dielectric(static_cast<float>(r.cos_in), gs.eta);
+        const float t_out = 1.f - fresnel_dielectric(static_cast<float>(r.cos_t), 1.f / gs.eta);
+        if (!(t_in * t_out > 0.f)) continue;
+        const Vec3 entry = r.entry.to_float(), exit = r.exit.to_float();
+        stats.rays += 3;
+        const Ray to_entry = spawn_ray_to(hit, entry);
+        if (dot(to_entry.d, wx) < 0.99f) continue;  // x within rounding of the sphere: no defined segment
+        if (scene.occluded(to_entry, {}, time) || caustic_segment_blocked(scene, entry, exit, time) ||
+            caustic_segment_blocked(scene, exit, y, time))
+            continue;
+        const float p_snee = p_choice / dw_dA;
+        const float p_chain = bsdf_pdf(bsdf, wo, wx, hit.ns, lambda.lambda[0]) * t_in * t_out;
+        const SampledSpectrum kt = gs.kt.sample(lambda);
+        const SampledSpectrum Le = light_emitted(scene.lights[static_cast<std::size_t>(light)], lambda);
+        sum += f_cos * kt * kt * Le * (t_in * t_out * power_heuristic(p_snee, p_chain) / p_snee);
+    }
+    return sum;
+}
+
+/// What the path loop remembers of a BSDF-sampled path that may be a caustic chain: the
+/// non-delta vertex x, the direction and density it left with, and how far along the chain
+/// x → in → out → emitter it is.
+struct CausticChainState {
+    enum Stage : std::uint8_t { none, left_x, inside, out };
+    Stage stage = none;
+    int sphere = -1;  ///< index in Scene::caustic_spheres once inside
+    Vec3 x, wx;
+    float pdf_x = 0.f;
+
+    /// Index in scene.caustic_spheres of the sphere `hit` is on, or −1.
+    static int caustic_sphere_at(const Scene& scene, const Hit& hit) {
+        if (hit.prim.kind() != ShapeKind::sphere) return -1;
+        for (std::size_t i = 0; i < scene.caustic_spheres.size(); ++i)
+            if (static_cast<std::uint32_t>(scene.caustic_spheres[i].sphere) == hit.prim.index())
+                return static_cast<int>(i);
+        return -1;
+    }
+};
+
+/// The BSDF side's MIS weight of emission found along a chain x → in → out → `hit` (light
+/// `light`): see the header. 1 when the strategy could not have produced this path.
+[[gnu::noinline]] inline float caustic_emission_weight(const Scene& scene, const CausticChainState& s, const Hit& hit,
+                                                       int light, CausticNeeBug bug) {
+    if (bug == CausticNeeBug::no_bsdf_side_weight) return 1.f;
+    const float choice = scene.caustic_light_choice.probability(light);
+    if (!(choice > 0.f)) return 1.f;
+    const CausticSphere& gs = scene.caustic_spheres[static_cast<std::size_t>(s.sphere)];
+    const Sphere& glass = scene.spheres[static_cast<std::size_t>(gs.sphere)];
+    const float pdf_area = caustic_light_area_pdf(scene, gs, light, hit.p);
+    if (!(pdf_area > 0.f)) return 1.f;
+    const SphereChain chain(DVec3(s.x), DVec3(glass.center), glass.radius, *gs.nodes, DVec3(hit.p));
+    SphereChainRoot roots[SphereChain::kMaxRoots];
+    const int n = chain.solve(roots);
+    // The path's root: its direction within float rounding of the path's (roots of one
+    // configuration lie far apart except at a fold, where the weight hardly matters).
+    const int i = SphereChain::find_matching_root(roots, n, DVec3(s.wx), 1e-3);
+    if (i < 0) return 1.f;
+    const SphereChainRoot& r = roots[i];
+    const float cos_y = std::fabs(dot(hit.n, r.w_exit.to_float()));
+    const float dw_dA = static_cast<float>(r.dw_dAperp) * cos_y;
+    if (!(dw_dA > 0.f) || !std::isfinite(dw_dA)) return 1.f;
+    const float t_in = 1.f - fresnel_dielectric(static_cast<float>(r.cos_in), gs.eta);
+    const float t_out = 1.f - fresnel_dielectric(static_cast<float>(r.cos_t), 1.f / gs.eta);
+    const float p_snee = choice * pdf_area / static_cast<float>(scene.caustic_spheres.size()) / dw_dA;
+    return power_heuristic(s.pdf_x * t_in * t_out, p_snee);
+}
+
+}  // namespace spt
