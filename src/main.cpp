@@ -227,6 +227,7 @@ int run(const spt::Options& opt) {
                                 light_sampling[static_cast<int>(rs.integrator.light_sampling)] +
                                 (rs.sampler == spt::SamplerKind::sobol ? " sampler=sobol" : "") +
                                 (rs.integrator.caustic_nee ? "" : " caustic-nee=off") +
+                                (rs.integrator.sample_planes ? "" : " plane-nee=off") +
                                 " dispersion=" + (opt.dispersion ? "on" : "off") +
                                 (kind == spt::IntegratorKind::path ? std::string()
                                     : std::string(" integrator=") + spt::integrator_name(kind)) +
@@ -401,6 +402,7 @@ int run_merge(const std::vector<std::string>& args) {
     rs.sampler = variant.find(" sampler=sobol") != std::string::npos ? spt::SamplerKind::sobol
                                                                       : spt::SamplerKind::independent;
     rs.integrator.caustic_nee = variant.find(" caustic-nee=off") == std::string::npos;
+    rs.integrator.sample_planes = variant.find(" plane-nee=off") == std::string::npos;
     spt::RenderStats stats;
     stats.samples_completed = merged.samples;
     std::vector<spt::ExrAttribute> metadata = spt::render_metadata(opt, rs, stats, merged.film->observer());

@@ -24,6 +24,10 @@ std::vector<std::string> ineffective_flag_warnings(const Options& options, const
         {"--light-sampling", integrator.kind != IntegratorKind::path, "with the " + kind + " integrator (path only)"},
         {"--caustic-nee", integrator.kind != IntegratorKind::path || !scene.effects.caustic_spheres,
          "without the path integrator and a smooth glass sphere under an emitting sphere or quad"},
+        {"--plane-nee", integrator.kind != IntegratorKind::path ||
+                            std::none_of(scene.lights.begin(), scene.lights.end(),
+                                         [](const Light& l) { return std::holds_alternative<PlaneLight>(l); }),
+         "without the path integrator and an emitting infinite plane"},
         {"--exposure", !writes(ImageFormat::Png), "without a .png output (EXR, PFM and PPM stay linear)"},
         {"--auto-exposure", !writes(ImageFormat::Png), "without a .png output (EXR, PFM and PPM stay linear)"},
         {"--tonemap", !writes(ImageFormat::Png), "without a .png output (EXR, PFM and PPM stay linear)"},

@@ -23,6 +23,7 @@ IntegratorChoice choose_integrator(const Options& options, const Scene& scene) {
         scene_integrator ? preset.merge_radius.value_or(s.merge_radius) : s.merge_radius));
     s.wavelengths_per_path = options.wavelengths_per_path;
     s.caustic_nee = options.caustic_nee;
+    s.sample_planes = options.plane_nee;
     // Effects an integrator cannot render: a usage error, never a wrong image.
     const char* feature = nullptr;
     const char* instead = "--integrator path";

@@ -69,7 +69,7 @@ const std::vector<std::string>& known_flags() {
         "--spectral-range", "--sensor", "--preview-interval", "--display-server", "--threads", "--tile", "--queue",
         "--schedule", "--seed",
         "--checkpoint", "--resume", "--checkpoint-interval", "--time-limit", "--wavelengths-per-path",
-        "--integrator", "--light-sampling", "--caustic-nee", "--merge-radius", "--no-dispersion", "--pass-spp", "--max-depth",
+        "--integrator", "--light-sampling", "--caustic-nee", "--plane-nee", "--merge-radius", "--no-dispersion", "--pass-spp", "--max-depth",
         "--passes", "--print-passes", "--sampler"};
     return flags;
 }
@@ -157,6 +157,10 @@ Options:
   --caustic-nee on|off   path with --light-sampling mis: specular next-event estimation
                          through smooth glass spheres (caustics of emitting spheres and
                          quads under glass balls, weighted by MIS; default on)
+  --plane-nee on|off     path: next-event estimation to emitting infinite planes (the
+                         cornell ceiling), drawn from what the other planes leave open
+                         (default on: about 3.5x lower relMSE on cornell at about 3x the
+                         time per path; off: emission found by BSDF sampling only)
   --merge-radius R       vcm: merging radius of the first pass in scene units (default:
                          five pixel footprints at the median distance the camera sees,
                          less where a pilot finds photons dense; at most 1% of the scene)
@@ -381,6 +385,11 @@ Options parse_options(const std::vector<std::string>& args) {
             if (v != "on" && v != "off")
                 throw UsageError(flag + ": expected on or off, got '" + v + "'." + suggestion(v, {"on", "off"}));
             o.caustic_nee = v == "on";
+        } else if (flag == "--plane-nee") {
+            const std::string v = next_value();
+            if (v != "on" && v != "off")
+                throw UsageError(flag + ": expected on or off, got '" + v + "'." + suggestion(v, {"on", "off"}));
+            o.plane_nee = v == "on";
         } else if (flag == "--merge-radius") {
             o.merge_radius = parse_real(flag, next_value(), 1e-12, 1e12, "a radius from 1e-12 to 1e12");
         } else if (flag == "--no-dispersion") {

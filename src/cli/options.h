@@ -47,6 +47,7 @@ struct Options {
     std::optional<double> merge_radius;             ///< vcm's first radius (default: automatic)
     int wavelengths_per_path = 4;  ///< 1 or 4
     bool caustic_nee = true;       ///< --caustic-nee (path, light sampling mis)
+    bool plane_nee = true;         ///< --plane-nee (path: sample emitting infinite planes)
     std::optional<SamplerKind> sampler;  ///< --sampler (default: default_sampler)
     bool dispersion = true;        ///< false: dispersive glass gets its mean index
     int pass_spp = 0;  ///< samples per pass (0: automatic); does not change the image
