@@ -159,7 +159,7 @@ Options:
                          quads under glass balls, weighted by MIS; default on)
   --plane-nee on|off     path: next-event estimation to emitting infinite planes (the
                          cornell ceiling), drawn from what the other planes leave open
-                         (default on: about 3.5x lower relMSE on cornell at about 3x the
+                         (default on: about 4x lower relMSE on cornell at 3 to 4x the
                          time per path; off: emission found by BSDF sampling only)
   --merge-radius R       vcm: merging radius of the first pass in scene units (default:
                          five pixel footprints at the median distance the camera sees,
