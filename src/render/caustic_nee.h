@@ -45,20 +45,32 @@
 
 namespace spt {
 
+/// The cap of sphere light s that glass sphere gs can see: the points whose outward normal
+/// has z ≥ z_min about the axis from the light's centre to the glass's (area 2πr²(1 − z_min)).
+struct VisibleCap {
+    Vec3 axis;   ///< glass centre − light centre
+    float dist;  ///< |axis|
+    float z_min;
+    float area_pdf(float r) const { return 1.f / (2.f * kPi * r * r * (1.f - z_min)); }
+};
+inline VisibleCap visible_cap(const Scene& scene, const CausticSphere& gs, const SphereLight& s) {
+    const Sphere& glass = scene.spheres[static_cast<std::size_t>(gs.sphere)];
+    const Vec3 axis = glass.center - s.sphere.center;
+    const float dist = length(axis);
+    return {axis, dist, std::max(-1.f, (s.sphere.radius - glass.radius) / dist)};
+}
+
 /// The density per unit area with which the strategy samples y on light `index` for glass
 /// sphere `gs` (0 when the light is not one it samples by area, or y is outside its cap).
 inline float caustic_light_area_pdf(const Scene& scene, const CausticSphere& gs, int index, const Vec3& y) {
     const Light& light = scene.lights[static_cast<std::size_t>(index)];
     if (const QuadLight* q = std::get_if<QuadLight>(&light)) return 1.f / q->area();
     if (const SphereLight* s = std::get_if<SphereLight>(&light)) {
-        const Sphere& glass = scene.spheres[static_cast<std::size_t>(gs.sphere)];
-        const Vec3 axis = glass.center - s->sphere.center;
-        const float dist = length(axis);
+        const VisibleCap cap = visible_cap(scene, gs, *s);
         const float r = s->sphere.radius;
-        const float z_min = std::max(-1.f, (r - glass.radius) / dist);
-        const float z = dot(y - s->sphere.center, axis) / (dist * r);
-        if (z < z_min) return 0.f;
-        return 1.f / (2.f * kPi * r * r * (1.f - z_min));
+        const float z = dot(y - s->sphere.center, cap.axis) / (cap.dist * r);
+        if (z < cap.z_min) return 0.f;
+        return cap.area_pdf(r);
     }
     return 0.f;
 }
@@ -75,19 +87,16 @@ inline bool caustic_light_sample(const Scene& scene, const CausticSphere& gs, in
         return true;
     }
     if (const SphereLight* s = std::get_if<SphereLight>(&light)) {
-        const Sphere& glass = scene.spheres[static_cast<std::size_t>(gs.sphere)];
-        const Vec3 axis = glass.center - s->sphere.center;
-        const float dist = length(axis);
+        const VisibleCap cap = visible_cap(scene, gs, *s);
         const float r = s->sphere.radius;
-        const float z_min = std::max(-1.f, (r - glass.radius) / dist);
-        // Uniform over the cap z ≥ z_min about the axis (area 2πr²(1 − z_min)).
-        const float z = 1.f - u1 * (1.f - z_min);
+        // Uniform over the cap.
+        const float z = 1.f - u1 * (1.f - cap.z_min);
         const float sz = std::sqrt(std::max(0.f, 1.f - z * z));
         const float phi = 2.f * kPi * u2;
-        const Frame f(axis / dist);
+        const Frame f(cap.axis / cap.dist);
         n = f.to_world(Vec3(sz * std::cos(phi), sz * std::sin(phi), z));
         y = s->sphere.center + n * r;
-        pdf_area = 1.f / (2.f * kPi * r * r * (1.f - z_min));
+        pdf_area = cap.area_pdf(r);
         return true;
     }
     return false;
