@@ -56,4 +56,23 @@ inline double atan2_nonnegative(double y, double x) {
     return a;
 }
 
+/// atan2_nonnegative in four lanes, operation for operation the scalar one (the same bits in
+/// every lane: the branches become selects, the two quotients one division of selected
+/// operands).
+inline Double4 atan2_nonnegative(Double4 y, Double4 x) {
+    const Double4 zero{};
+    const Double4 ax = abs4(x);
+    const Long4 swap = y > ax;
+    const Double4 num = swap ? ax : y, den = swap ? y : ax;
+    const Long4 shift = num > 0.41421356237309503 * den;
+    const Double4 q = (shift ? num - den : num) / (shift ? num + den : den);
+    const Double4 u = den > zero ? q : zero, u2 = u * u;
+    const Double4 series =
+        1.0 - u2 * (1.0 / 3 - u2 * (1.0 / 5 - u2 * (1.0 / 7 - u2 * (1.0 / 9 - u2 * (1.0 / 11 - u2 * (1.0 / 13 -
+        u2 * (1.0 / 15 - u2 * (1.0 / 17 - u2 * (1.0 / 19 - u2 * (1.0 / 21))))))))));
+    Double4 a = (shift ? Double4{} + 0.78539816339744831 : zero) + u * series;
+    a = swap ? 1.5707963267948966 - a : a;
+    return x < zero ? 3.1415926535897932 - a : a;
+}
+
 }  // namespace spt

@@ -2,7 +2,9 @@
 // (no library): SSE on x86-64, NEON on ARM, plain scalar code elsewhere. Each lane rounds
 // exactly as the scalar operation would, so vector and scalar code give the same bits.
 #pragma once
+#include <cmath>
 #include <cstdint>
+#include <cstring>
 
 namespace spt {
 
@@ -10,6 +12,10 @@ using Float4 = float __attribute__((vector_size(16)));
 using Int4 = std::int32_t __attribute__((vector_size(16)));
 /// Two doubles: the film's sums (double) are built two components at a time.
 using Double2 = double __attribute__((vector_size(16)));
+/// Four doubles (two SSE registers, or one AVX register where the build targets it) and the
+/// masks their comparisons give.
+using Double4 = double __attribute__((vector_size(32)));
+using Long4 = std::int64_t __attribute__((vector_size(32)));
 
 inline Float4 splat4(float v) { return Float4{v, v, v, v}; }
 inline Int4 splat4(std::int32_t v) { return Int4{v, v, v, v}; }
@@ -27,6 +33,25 @@ inline unsigned lane_bits(Int4 mask) {
     return (mask[0] & 1u) | (mask[1] & 2u) | (mask[2] & 4u) | (mask[3] & 8u);
 #endif
 }
+/// Four floats from p (any alignment).
+inline Float4 load4(const float* p) {
+    Float4 v;
+    std::memcpy(&v, p, sizeof v);
+    return v;
+}
+/// Lane-wise square root, correctly rounded as std::sqrt (the same bits).
+inline Float4 sqrt4(Float4 v) {
+#if defined(__SSE__)
+    return __builtin_ia32_sqrtps(v);
+#else
+    return Float4{std::sqrt(v[0]), std::sqrt(v[1]), std::sqrt(v[2]), std::sqrt(v[3])};
+#endif
+}
+/// Lane-wise |v| (the sign bit cleared, as std::fabs).
+inline Double4 abs4(Double4 v) {
+    return reinterpret_cast<Double4>(reinterpret_cast<Long4>(v) & std::int64_t(0x7fffffffffffffff));
+}
+
 /// Lanes 0–1 and lanes 2–3 of a Float4 as doubles (exact).
 inline Double2 low_to_double2(Float4 v) {
     return __builtin_convertvector(__builtin_shufflevector(v, v, 0, 1), Double2);

@@ -86,6 +86,9 @@ struct PlaneLight {
     float region_handedness = 1.f;
     /// Names this light's regions for visible_from's memo (unique per prepare_regions; 0: none).
     std::uint64_t region_serial = 0;
+    /// Per blocker, the distance below which a point counts as on it (visible_from), made
+    /// once by prepare_regions rather than at every vertex.
+    std::array<double, VisibleLune::kMaxBlockers> blocker_on_tolerance{};
 
     /// Builds `regions` from the blockers (Scene::finalize).
     void prepare_regions() {
@@ -94,6 +97,9 @@ struct PlaneLight {
         region_handedness = dot(cross(f.s, f.t), plane.normal) >= 0.f ? 1.f : -1.f;
         static std::atomic<std::uint64_t> serials{0};
         region_serial = ++serials;
+        for (int i = 0; i < blocker_count; ++i)
+            blocker_on_tolerance[static_cast<std::size_t>(i)] =
+                1e-5 * std::max(1.0, std::fabs(double(blockers[static_cast<std::size_t>(i)].offset)));
         regions.assign(blocker_count > 0 ? std::size_t(1) << blocker_count : 0, PlaneRegion{});
         for (std::size_t signs = 0; signs < regions.size(); ++signs)
             regions[signs] = visible_region(plane.normal, plane.offset, f.s, f.t, blockers.data(), blocker_count,
@@ -123,7 +129,7 @@ struct PlaneLight {
             const PlaneBlocker& b = blockers[static_cast<std::size_t>(i)];
             const double d = double(b.normal.x) * p.x + double(b.normal.y) * p.y + double(b.normal.z) * p.z -
                              b.offset;
-            const bool on = std::fabs(d) <= 1e-5 * std::max(1.0, std::fabs(double(b.offset)));
+            const bool on = std::fabs(d) <= blocker_on_tolerance[static_cast<std::size_t>(i)];
             signs |= unsigned(on ? dot(ns, b.normal) >= 0.f : d > 0.0) << i;
         }
         memo.visible.build(p, ns, regions[signs], double(region_handedness) * s > 0.0);

@@ -44,6 +44,7 @@
 #include "core/fast_math.h"
 #include "core/frame.h"
 #include "core/math.h"
+#include "core/simd.h"
 #include "core/vec3.h"
 
 namespace spt {
@@ -70,8 +71,25 @@ struct HomogeneousVertex {
 /// them: a convex region, its vertices counter-clockwise about the plane's normal cross(t1,
 /// t2) of visible_region; fewer than 3: nothing is seen.
 struct PlaneRegion {
-    std::array<HomogeneousVertex, 4 + 2 * kMaxPlaneBlockers> vertex{};
+    static constexpr int kMaxCount = 4 + 2 * kMaxPlaneBlockers;
+    std::array<HomogeneousVertex, kMaxCount> vertex{};
     int count = 0;
+    /// The vertices again in lanes (VisibleLune::build transforms four at a time): component
+    /// arrays of v and w, [0] in the order of `vertex`, [1] reversed; lanes past count hold
+    /// (1, 0, 0, 0), whose directions are finite and ignored.
+    static constexpr int kLanes = (kMaxCount + 3) / 4 * 4;
+    alignas(16) float x[2][kLanes]{}, y[2][kLanes]{}, z[2][kLanes]{}, w[2][kLanes]{};
+
+    /// Fills the lanes from vertex[0, count).
+    void make_lanes() {
+        for (int order = 0; order < 2; ++order)
+            for (int i = 0; i < kLanes; ++i) {
+                const bool used = i < count;
+                const HomogeneousVertex h = used ? vertex[static_cast<std::size_t>(order ? count - 1 - i : i)]
+                                                 : HomogeneousVertex{{1.f, 0.f, 0.f}, 0.f};
+                x[order][i] = h.v.x, y[order][i] = h.v.y, z[order][i] = h.v.z, w[order][i] = h.w;
+            }
+    }
 };
 
 /// Clips the convex spherical polygon v[0, n) (unit vertices counter-clockwise about the
@@ -142,7 +160,8 @@ public:
             clip(gu);
         }
         if (m_vertices < 3) m_vertices = 0;
-        finish();
+        finish(false);
+        pack_constraints();
     }
 
     /// The same polygon from the region of the emitting plane that p's sides of the blockers
@@ -160,23 +179,29 @@ public:
         m_ns = ns;
         const int n = region.count;
         bool below = false;
-        for (int i = 0; i < n; ++i) {
-            const HomogeneousVertex& h = region.vertex[static_cast<std::size_t>(reverse ? n - 1 - i : i)];
-            const Vec3 e = h.v - p * h.w;
-            const Vec3 d = e * (1.f / length(e));
-            m_v[i] = d;
+        // Four vertices at a time, each lane the scalar operations of one vertex (the same
+        // bits): e = v − p·w, d = e·(1/|e|).
+        const int order = reverse ? 1 : 0;
+        for (int i0 = 0; i0 < n; i0 += 4) {
+            const Float4 vx = load4(&region.x[order][i0]), vy = load4(&region.y[order][i0]);
+            const Float4 vz = load4(&region.z[order][i0]), vw = load4(&region.w[order][i0]);
+            const Float4 ex = vx - p.x * vw, ey = vy - p.y * vw, ez = vz - p.z * vw;
+            const Float4 inv = 1.f / sqrt4(ex * ex + ey * ey + ez * ez);
+            const Float4 dx = ex * inv, dy = ey * inv, dz = ez * inv;
             // A vertex on ns's horizon (a region's corner on the wall p lies on) is off it
             // by rounding only: the sliver below, ∫ω·ns over it of order 1e-10 of Φ, is kept.
-            below |= dot(d, ns) < -1e-5f;
+            const int used = n - i0 < 4 ? n - i0 : 4;
+            below |= (lane_bits(dx * ns.x + dy * ns.y + dz * ns.z < -1e-5f) & ((1u << used) - 1u)) != 0;
+            for (int j = 0; j < used; ++j) m_v[i0 + j] = Vec3(dx[j], dy[j], dz[j]);
         }
         m_vertices = n;
         if (below && n >= 3) clip(ns);
         if (m_vertices < 3) m_vertices = 0;
         // A convex polygon with edges below 180° holds ω iff ω is on the inner side of
-        // every edge's great circle.
-        for (int i = 0; i < m_vertices; ++i) m_g[i] = cross(m_v[i], m_v[i + 1 == m_vertices ? 0 : i + 1]);
+        // every edge's great circle: the constraints are the edges' normals v_i × v_{i+1},
+        // which finish() computes for Lambert's formula anyway and keeps.
         m_constraints = m_vertices;
-        finish();
+        finish(true);
     }
 
     bool empty() const { return !(m_projected_area > 0.f); }
@@ -187,8 +212,10 @@ public:
     float bound_c() const { return m_bound_c; }
     /// True if ω (unit, ω·ns > 0 assumed) is in the polygon: on the plane's side and past every blocker.
     bool contains(const Vec3& w) const {
-        for (int i = 0; i < m_constraints; ++i)
-            if (!(dot(w, m_g[i]) >= 0.f)) return false;
+        // Four constraints at a time (lanes past m_constraints hold g = 0: 0 ≥ 0 passes).
+        const Float4 wx = splat4(w.x), wy = splat4(w.y), wz = splat4(w.z);
+        for (int k = 0; k * 4 < m_constraints; ++k)
+            if (lane_bits(wx * m_gx[k] + wy * m_gy[k] + wz * m_gz[k] >= 0.f) != 0xfu) return false;
         return true;
     }
     float area() const { return m_projected_area; }
@@ -223,32 +250,63 @@ private:
     int m_vertices = 0;
     Vec3 m_g[kMaxVertices + 2];  ///< the constraints ω·g ≥ 0 (clipping) or the edges' normals (region)
     int m_constraints = 0;
+    /// m_g in lanes for contains(): components of constraints 4k … 4k + 3, zero past m_constraints.
+    static constexpr int kConstraintGroups = (kMaxVertices + 2 + 3) / 4;
+    Float4 m_gx[kConstraintGroups]{}, m_gy[kConstraintGroups]{}, m_gz[kConstraintGroups]{};
+    /// Copies m_g[0, m_constraints) into the lanes.
+    void pack_constraints() {
+        for (int k = 0; k * 4 < m_constraints; ++k)
+            for (int j = 0; j < 4; ++j) {
+                const int i = 4 * k + j;
+                const Vec3 g = i < m_constraints ? m_g[i] : Vec3(0.f, 0.f, 0.f);
+                m_gx[k][j] = g.x, m_gy[k][j] = g.y, m_gz[k][j] = g.z;
+            }
+    }
     float m_projected_area = 0.f;
     Vec3 m_bound;
     float m_bound_c = 2.f;
 
-    /// Φ (Lambert's formula, top of the file) and the bounding edge.
-    void finish();
+    /// Φ (Lambert's formula, top of the file) and the bounding edge; edges_are_constraints:
+    /// m_g[i] becomes edge i's v_i × v_{i+1} (the region's polygon, whose constraints they are).
+    void finish(bool edges_are_constraints);
 };
 
-inline void VisibleLune::finish() {
+inline void VisibleLune::finish(bool edges_are_constraints) {
     double sum = 0.0;
     m_bound_c = 2.f;
-    for (int i = 0; i < m_vertices; ++i) {
-        const Vec3& a = m_v[i];
-        const Vec3& b = m_v[i + 1 == m_vertices ? 0 : i + 1];
-        const Vec3 axb = cross(a, b);
-        const float sin_t = length(axb);
-        const float theta = static_cast<float>(atan2_nonnegative(sin_t, dot(a, b)));
-        const float ratio = sin_t > 1e-7f ? theta / sin_t : 1.f;  // θ / sin θ → 1
-        const float axb_ns = dot(axb, m_ns);
-        sum += double(ratio) * axb_ns;
-        if (sin_t > 1e-6f && axb_ns < m_bound_c * sin_t) {
-            const float inv = 1.f / sin_t;
-            m_bound_c = axb_ns * inv, m_bound = axb * inv;
+    const int n = m_vertices;
+    // Four edges at a time, each lane the scalar operations of one edge (the same bits; the
+    // sum and the bound in edge order, as before): axb = a × b, sin θ = |axb|, θ from atan2
+    // in double, θ/sin θ, axb·ns. Lanes past n hold a = b = 0 (axb = 0, ratio 1).
+    for (int i0 = 0; i0 < n; i0 += 4) {
+        const int used = n - i0 < 4 ? n - i0 : 4;
+        Float4 ax{}, ay{}, az{}, bx{}, by{}, bz{};
+        for (int j = 0; j < used; ++j) {
+            const int i = i0 + j;
+            const Vec3& a = m_v[i];
+            const Vec3& b = m_v[i + 1 == n ? 0 : i + 1];
+            ax[j] = a.x, ay[j] = a.y, az[j] = a.z, bx[j] = b.x, by[j] = b.y, bz[j] = b.z;
+        }
+        const Float4 cx = ay * bz - az * by, cy = az * bx - ax * bz, cz = ax * by - ay * bx;
+        const Float4 sin_t = sqrt4(cx * cx + cy * cy + cz * cz);
+        const Float4 cos_t = ax * bx + ay * by + az * bz;
+        const Float4 theta = __builtin_convertvector(
+            atan2_nonnegative(__builtin_convertvector(sin_t, Double4), __builtin_convertvector(cos_t, Double4)),
+            Float4);
+        const Float4 ratio = sin_t > 1e-7f ? theta / sin_t : splat4(1.f);  // θ / sin θ → 1
+        const Float4 axb_ns = cx * m_ns.x + cy * m_ns.y + cz * m_ns.z;
+        if (edges_are_constraints) m_gx[i0 / 4] = cx, m_gy[i0 / 4] = cy, m_gz[i0 / 4] = cz;
+        for (int j = 0; j < used; ++j) {
+            const Vec3 axb(cx[j], cy[j], cz[j]);
+            if (edges_are_constraints) m_g[i0 + j] = axb;
+            sum += double(ratio[j]) * axb_ns[j];
+            if (sin_t[j] > 1e-6f && axb_ns[j] < m_bound_c * sin_t[j]) {
+                const float inv = 1.f / sin_t[j];
+                m_bound_c = axb_ns[j] * inv, m_bound = axb * inv;
+            }
         }
     }
-    m_projected_area = m_vertices ? static_cast<float>(0.5 * sum) : 0.f;
+    m_projected_area = n ? static_cast<float>(0.5 * sum) : 0.f;
 }
 
 
@@ -292,6 +350,7 @@ inline PlaneRegion visible_region(const Vec3& normal, float offset, const Vec3& 
     if (n < 3) return region;
     for (int k = 0; k < n; ++k) region.vertex[static_cast<std::size_t>(k)] = {t1 * h[k].x + t2 * h[k].y + o * h[k].z, h[k].z};
     region.count = n;
+    region.make_lanes();
     return region;
 }
 
