@@ -5,6 +5,7 @@
 #pragma once
 #include <bit>
 #include <cmath>
+#include <cstdint>
 
 #include "core/simd.h"
 
@@ -56,12 +57,12 @@ inline double atan2_nonnegative(double y, double x) {
     return a;
 }
 
-/// atan2_nonnegative in four lanes, operation for operation the scalar one (the same bits in
-/// every lane: the branches become selects, the two quotients one division of selected
-/// operands).
-inline Double4 atan2_nonnegative(Double4 y, Double4 x) {
+/// atan2_nonnegative in four lanes (into `out`), operation for operation the scalar one (the
+/// same bits in every lane: the branches become selects, the two quotients one division of
+/// selected operands, |x| the sign bit cleared).
+inline void atan2_nonnegative(const Double4& y, const Double4& x, Double4& out) {
     const Double4 zero{};
-    const Double4 ax = abs4(x);
+    const Double4 ax = reinterpret_cast<Double4>(reinterpret_cast<Long4>(x) & std::int64_t(0x7fffffffffffffff));
     const Long4 swap = y > ax;
     const Double4 num = swap ? ax : y, den = swap ? y : ax;
     const Long4 shift = num > 0.41421356237309503 * den;
@@ -72,7 +73,7 @@ inline Double4 atan2_nonnegative(Double4 y, Double4 x) {
         u2 * (1.0 / 15 - u2 * (1.0 / 17 - u2 * (1.0 / 19 - u2 * (1.0 / 21))))))))));
     Double4 a = (shift ? Double4{} + 0.78539816339744831 : zero) + u * series;
     a = swap ? 1.5707963267948966 - a : a;
-    return x < zero ? 3.1415926535897932 - a : a;
+    out = x < zero ? 3.1415926535897932 - a : a;
 }
 
 }  // namespace spt

@@ -13,7 +13,8 @@ using Int4 = std::int32_t __attribute__((vector_size(16)));
 /// Two doubles: the film's sums (double) are built two components at a time.
 using Double2 = double __attribute__((vector_size(16)));
 /// Four doubles (two SSE registers, or one AVX register where the build targets it) and the
-/// masks their comparisons give.
+/// masks their comparisons give. Functions take and give them by reference: by value, their
+/// ABI differs between builds with and without AVX (GCC's -Wpsabi).
 using Double4 = double __attribute__((vector_size(32)));
 using Long4 = std::int64_t __attribute__((vector_size(32)));
 
@@ -46,10 +47,6 @@ inline Float4 sqrt4(Float4 v) {
 #else
     return Float4{std::sqrt(v[0]), std::sqrt(v[1]), std::sqrt(v[2]), std::sqrt(v[3])};
 #endif
-}
-/// Lane-wise |v| (the sign bit cleared, as std::fabs).
-inline Double4 abs4(Double4 v) {
-    return reinterpret_cast<Double4>(reinterpret_cast<Long4>(v) & std::int64_t(0x7fffffffffffffff));
 }
 
 /// Lanes 0–1 and lanes 2–3 of a Float4 as doubles (exact).

@@ -155,28 +155,31 @@ struct PlaneLight {
     /// gathering side): no sample, density 0.
     static constexpr float kMinLune = 1e-6f;
 
-    std::optional<LightSample> sample_li(const LightSampleContext& ctx, const SampledWavelengths& lambda, float u1,
-                                         float u2) const {
+    /// sample_li into caller storage `ls`, a default LightSample (the fields a plane's sample
+    /// does not set keep their defaults): false when nothing can arrive. The path loop's next-event estimation calls it: the
+    /// optional's copy of the sample, read back as wide loads of fields just written one by
+    /// one, stalled on store forwarding.
+    bool sample_li(const LightSampleContext& ctx, const SampledWavelengths& lambda, float u1, float u2,
+                   LightSample& ls) const {
         const double s = side(ctx.p);
-        if (s == 0.0) return std::nullopt;
+        if (s == 0.0) return false;
         const Vec3 m = s > 0.0 ? -plane.normal : plane.normal;
-        LightSample ls;
         if (ctx.both_sides) {
             const Vec3 local = sample_cosine_hemisphere(u1, u2);
-            if (!(local.z > 0.f)) return std::nullopt;
+            if (!(local.z > 0.f)) return false;
             ls.wi = Frame(m).to_world(local);
             ls.pdf = local.z * kInvPi;
         } else {
             const float c = dot(ctx.ns, m);
-            if (!(1.f + c > kMinLune)) return std::nullopt;
+            if (!(1.f + c > kMinLune)) return false;
             if (blocker_count == 0) {
                 ls.wi = lune_direction(ctx.ns, m, c, u1, u2);
                 const float cos_n = dot(ls.wi, ctx.ns);
-                if (!(cos_n > 0.f) || !(dot(ls.wi, m) > 0.f)) return std::nullopt;
+                if (!(cos_n > 0.f) || !(dot(ls.wi, m) > 0.f)) return false;
                 ls.pdf = lune_pdf(cos_n, c);
             } else {
                 const VisibleLune& visible = visible_from(ctx.p, ctx.ns, s);
-                if (visible.empty()) return std::nullopt;
+                if (visible.empty()) return false;
                 float v1 = u1, v2 = u2, cos_n = 0.f;
                 bool found = false;
                 // From the tightest lune that holds the polygon (fewer tries).
@@ -188,15 +191,22 @@ struct PlaneLight {
                     cos_n = dot(ls.wi, ctx.ns);
                     found = cos_n > 0.f && dot(ls.wi, m) > 0.f && visible.contains(ls.wi);
                 }
-                if (!found) return std::nullopt;
+                if (!found) return false;
                 ls.pdf = visible_pdf(cos_n, c_lune, visible.area());
                 ls.past_planes = blocks_every_plane;
             }
         }
         // The distance along wi: |side| / cos θ to the plane (the shadow ray needs no point on it).
         ls.plane_distance = static_cast<float>(std::fabs(s) / dot(ls.wi, m));
-        if (!std::isfinite(ls.plane_distance) || !(ls.plane_distance > 0.f)) return std::nullopt;
+        if (!std::isfinite(ls.plane_distance) || !(ls.plane_distance > 0.f)) return false;
         ls.L = Le.sample(lambda);
+        return true;
+    }
+
+    std::optional<LightSample> sample_li(const LightSampleContext& ctx, const SampledWavelengths& lambda, float u1,
+                                         float u2) const {
+        LightSample ls;
+        if (!sample_li(ctx, lambda, u1, u2, ls)) return std::nullopt;
         return ls;
     }
 

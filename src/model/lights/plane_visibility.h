@@ -160,6 +160,7 @@ public:
             clip(gu);
         }
         if (m_vertices < 3) m_vertices = 0;
+        pack_vertices();
         finish(false);
         pack_constraints();
     }
@@ -192,10 +193,14 @@ public:
             // by rounding only: the sliver below, ∫ω·ns over it of order 1e-10 of Φ, is kept.
             const int used = n - i0 < 4 ? n - i0 : 4;
             below |= (lane_bits(dx * ns.x + dy * ns.y + dz * ns.z < -1e-5f) & ((1u << used) - 1u)) != 0;
-            for (int j = 0; j < used; ++j) m_v[i0 + j] = Vec3(dx[j], dy[j], dz[j]);
+            m_vx[i0 / 4] = dx, m_vy[i0 / 4] = dy, m_vz[i0 / 4] = dz;
         }
         m_vertices = n;
-        if (below && n >= 3) clip(ns);
+        if (below && n >= 3) {
+            for (int i = 0; i < n; ++i) m_v[i] = vertex(i);
+            clip(ns);
+            pack_vertices();
+        }
         if (m_vertices < 3) m_vertices = 0;
         // A convex polygon with edges below 180° holds ω iff ω is on the inner side of
         // every edge's great circle: the constraints are the edges' normals v_i × v_{i+1},
@@ -220,7 +225,7 @@ public:
     }
     float area() const { return m_projected_area; }
     int vertex_count() const { return m_vertices; }
-    const Vec3& vertex(int i) const { return m_v[i]; }
+    Vec3 vertex(int i) const { return {m_vx[i / 4][i % 4], m_vy[i / 4][i % 4], m_vz[i / 4][i % 4]}; }
 
 private:
     /// The lune as four vertices 90° apart, counter-clockwise about the inside (v_i × v_{i+1}
@@ -246,9 +251,18 @@ private:
     void clip(const Vec3& g) { m_vertices = clip_spherical_polygon(m_v, m_vertices, g); }
 
     Vec3 m_ns;
+    /// The vertices in lanes (components of vertices 4k … 4k + 3; lanes past m_vertices are
+    /// ignored), and as vectors where a clip works on them (m_v: scratch of the clipping).
+    static constexpr int kVertexGroups = (kMaxVertices + 2 + 3) / 4;
+    Float4 m_vx[kVertexGroups]{}, m_vy[kVertexGroups]{}, m_vz[kVertexGroups]{};
     Vec3 m_v[kMaxVertices + 2];
     int m_vertices = 0;
-    Vec3 m_g[kMaxVertices + 2];  ///< the constraints ω·g ≥ 0 (clipping) or the edges' normals (region)
+    /// Copies m_v[0, m_vertices) into the lanes.
+    void pack_vertices() {
+        for (int i = 0; i < m_vertices; ++i)
+            m_vx[i / 4][i % 4] = m_v[i].x, m_vy[i / 4][i % 4] = m_v[i].y, m_vz[i / 4][i % 4] = m_v[i].z;
+    }
+    Vec3 m_g[kMaxVertices + 2];  ///< the clipping constructor's constraints ω·g ≥ 0 (scratch of pack_constraints)
     int m_constraints = 0;
     /// m_g in lanes for contains(): components of constraints 4k … 4k + 3, zero past m_constraints.
     static constexpr int kConstraintGroups = (kMaxVertices + 2 + 3) / 4;
@@ -266,8 +280,9 @@ private:
     Vec3 m_bound;
     float m_bound_c = 2.f;
 
-    /// Φ (Lambert's formula, top of the file) and the bounding edge; edges_are_constraints:
-    /// m_g[i] becomes edge i's v_i × v_{i+1} (the region's polygon, whose constraints they are).
+    /// Φ (Lambert's formula, top of the file) and the bounding edge from the vertices' lanes;
+    /// edges_are_constraints: the constraints' lanes become the edges' v_i × v_{i+1} (the
+    /// region's polygon, whose constraints they are).
     void finish(bool edges_are_constraints);
 };
 
@@ -277,32 +292,44 @@ inline void VisibleLune::finish(bool edges_are_constraints) {
     const int n = m_vertices;
     // Four edges at a time, each lane the scalar operations of one edge (the same bits; the
     // sum and the bound in edge order, as before): axb = a × b, sin θ = |axb|, θ from atan2
-    // in double, θ/sin θ, axb·ns. Lanes past n hold a = b = 0 (axb = 0, ratio 1).
+    // in double, θ/sin θ, axb·ns. Lanes past n get axb = 0 and are left out of the sums.
     for (int i0 = 0; i0 < n; i0 += 4) {
         const int used = n - i0 < 4 ? n - i0 : 4;
-        Float4 ax{}, ay{}, az{}, bx{}, by{}, bz{};
-        for (int j = 0; j < used; ++j) {
-            const int i = i0 + j;
-            const Vec3& a = m_v[i];
-            const Vec3& b = m_v[i + 1 == n ? 0 : i + 1];
-            ax[j] = a.x, ay[j] = a.y, az[j] = a.z, bx[j] = b.x, by[j] = b.y, bz[j] = b.z;
+        const int k = i0 / 4;
+        const Float4 ax = m_vx[k], ay = m_vy[k], az = m_vz[k];
+        // b: each lane's next vertex; a rotation of the lanes for the polygons of 3 and 4
+        // vertices (nearly all), gathered from the lanes otherwise.
+        Float4 bx, by, bz;
+        if (n == 3) {
+            bx = __builtin_shufflevector(ax, ax, 1, 2, 0, 3), by = __builtin_shufflevector(ay, ay, 1, 2, 0, 3);
+            bz = __builtin_shufflevector(az, az, 1, 2, 0, 3);
+        } else if (n == 4) {
+            bx = __builtin_shufflevector(ax, ax, 1, 2, 3, 0), by = __builtin_shufflevector(ay, ay, 1, 2, 3, 0);
+            bz = __builtin_shufflevector(az, az, 1, 2, 3, 0);
+        } else {
+            for (int j = 0; j < 4; ++j) {
+                const int i = i0 + j + 1 >= n ? i0 + j + 1 - n : i0 + j + 1;
+                bx[j] = m_vx[i / 4][i % 4], by[j] = m_vy[i / 4][i % 4], bz[j] = m_vz[i / 4][i % 4];
+            }
         }
-        const Float4 cx = ay * bz - az * by, cy = az * bx - ax * bz, cz = ax * by - ay * bx;
+        // Lanes past n: axb = 0 (contains() passes them).
+        const Int4 lane_used = Int4{0, 1, 2, 3} < used;
+        const Float4 zero{};
+        const Float4 cx = lane_used ? ay * bz - az * by : zero, cy = lane_used ? az * bx - ax * bz : zero,
+                     cz = lane_used ? ax * by - ay * bx : zero;
         const Float4 sin_t = sqrt4(cx * cx + cy * cy + cz * cz);
         const Float4 cos_t = ax * bx + ay * by + az * bz;
-        const Float4 theta = __builtin_convertvector(
-            atan2_nonnegative(__builtin_convertvector(sin_t, Double4), __builtin_convertvector(cos_t, Double4)),
-            Float4);
+        Double4 theta_d;
+        atan2_nonnegative(__builtin_convertvector(sin_t, Double4), __builtin_convertvector(cos_t, Double4), theta_d);
+        const Float4 theta = __builtin_convertvector(theta_d, Float4);
         const Float4 ratio = sin_t > 1e-7f ? theta / sin_t : splat4(1.f);  // θ / sin θ → 1
         const Float4 axb_ns = cx * m_ns.x + cy * m_ns.y + cz * m_ns.z;
         if (edges_are_constraints) m_gx[i0 / 4] = cx, m_gy[i0 / 4] = cy, m_gz[i0 / 4] = cz;
         for (int j = 0; j < used; ++j) {
-            const Vec3 axb(cx[j], cy[j], cz[j]);
-            if (edges_are_constraints) m_g[i0 + j] = axb;
             sum += double(ratio[j]) * axb_ns[j];
             if (sin_t[j] > 1e-6f && axb_ns[j] < m_bound_c * sin_t[j]) {
                 const float inv = 1.f / sin_t[j];
-                m_bound_c = axb_ns[j] * inv, m_bound = axb * inv;
+                m_bound_c = axb_ns[j] * inv, m_bound = Vec3(cx[j], cy[j], cz[j]) * inv;
             }
         }
     }
