@@ -37,6 +37,13 @@ inline void sincos_quarter_pi(float s, float& sin_out, float& cos_out) {
     cos_out = 1.f - t2 * (0.5f - t2 * (1.f / 24 - t2 * (1.f / 720 - t2 * (1.f / 40320 - t2 * (1.f / 3628800)))));
 }
 
+/// sincos_quarter_pi in four lanes (the same operations: the same bits in every lane).
+inline void sincos_quarter_pi(Float4 s, Float4& sin_out, Float4& cos_out) {
+    const Float4 t = 0.785398163397448f * s, t2 = t * t;
+    sin_out = t * (1.f - t2 * (1.f / 6 - t2 * (1.f / 120 - t2 * (1.f / 5040 - t2 * (1.f / 362880)))));
+    cos_out = 1.f - t2 * (0.5f - t2 * (1.f / 24 - t2 * (1.f / 720 - t2 * (1.f / 40320 - t2 * (1.f / 3628800)))));
+}
+
 /// atan2(y, x) for y ≥ 0 (an angle in [0, π]; (0, 0) gives 0), in double: with t the ratio
 /// of the smaller of y, |x| to the larger (t ∈ [0, 1]), atan t = π/4 + atan((t − 1)/(t + 1))
 /// above tan(π/8) leaves |u| ≤ tan(π/8) = 0.4142, where eleven terms of u − u³/3 + u⁵/5 − …

@@ -10,6 +10,7 @@ namespace spt {
 
 using Float4 = float __attribute__((vector_size(16)));
 using Int4 = std::int32_t __attribute__((vector_size(16)));
+using UInt4 = std::uint32_t __attribute__((vector_size(16)));
 /// Two doubles: the film's sums (double) are built two components at a time.
 using Double2 = double __attribute__((vector_size(16)));
 /// Four doubles (two SSE registers, or one AVX register where the build targets it) and the

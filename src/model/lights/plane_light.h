@@ -180,16 +180,29 @@ struct PlaneLight {
             } else {
                 const VisibleLune& visible = visible_from(ctx.p, ctx.ns, s);
                 if (visible.empty()) return false;
-                float v1 = u1, v2 = u2, cos_n = 0.f;
+                float cos_n = 0.f;
                 bool found = false;
-                // From the tightest lune that holds the polygon (fewer tries).
+                // From the tightest lune that holds the polygon (fewer tries). Four tries at a
+                // time, one per lane, each lane the operations of the scalar try (Lune::direction,
+                // retry_numbers, contains: the same bits), and the first that lands is taken, as
+                // if they were made one after the other: one branch per four tries, not a
+                // mispredicted one per try.
                 const float c_lune = sampling_c(visible, c);
                 const Lune lune(ctx.ns, c_lune == c ? m : visible.bound_normal(), c_lune);
-                for (int k = 0; k < kMaxTries && !found; ++k) {
-                    if (k > 0) retry_numbers(u1, u2, k, v1, v2);
-                    ls.wi = lune.direction(v1, v2);
-                    cos_n = dot(ls.wi, ctx.ns);
-                    found = cos_n > 0.f && dot(ls.wi, m) > 0.f && visible.contains(ls.wi);
+                static_assert(kMaxTries % 4 == 0);
+                for (int k0 = 0; k0 < kMaxTries && !found; k0 += 4) {
+                    Float4 v1, v2, wx, wy, wz;
+                    retry_numbers(u1, u2, k0, v1, v2);
+                    lune.direction(v1, v2, wx, wy, wz);
+                    const Float4 cos4 = wx * ctx.ns.x + wy * ctx.ns.y + wz * ctx.ns.z;
+                    const unsigned landed = lane_bits((cos4 > 0.f) & (wx * m.x + wy * m.y + wz * m.z > 0.f) &
+                                                      visible.contains(wx, wy, wz));
+                    if (landed) {
+                        const int j = std::countr_zero(landed);
+                        ls.wi = Vec3(wx[j], wy[j], wz[j]);
+                        cos_n = cos4[j];
+                        found = true;
+                    }
                 }
                 if (!found) return false;
                 ls.pdf = visible_pdf(cos_n, c_lune, visible.area());
@@ -250,6 +263,25 @@ struct PlaneLight {
             const Vec3 d = t * x + b * y + ns * z;
             return d * (1.f / length(d));
         }
+        /// direction() for four pairs (u1, u2) in lanes: the components of the four directions
+        /// (each lane the scalar operations; std::clamp and safe_sqrt's selects as they are).
+        void direction(const Float4& u1, const Float4& u2, Float4& dx, Float4& dy, Float4& dz) const {
+            Float4 sin_half, cos_half;
+            sincos_quarter_pi(2.f * u2 - 1.f, sin_half, cos_half);
+            const Float4 r = sqrt4(u1);
+            const Float4 y = r * (2.f * sin_half * cos_half), x_half = r * ((cos_half - sin_half) * (cos_half + sin_half));
+            const Float4 zero{};
+            const Float4 w2 = 1.f - y * y;
+            const Float4 w = sqrt4(zero < w2 ? w2 : zero);
+            const Float4 x0 = -c * w + (1.f + c) * x_half, neg_w = -w;
+            const Float4 x = x0 < neg_w ? neg_w : (w < x0 ? w : x0);
+            const Float4 z2 = 1.f - x * x - y * y;
+            const Float4 z = sqrt4(zero < z2 ? z2 : zero);
+            const Float4 ex = t.x * x + b.x * y + ns.x * z, ey = t.y * x + b.y * y + ns.y * z,
+                         ez = t.z * x + b.z * y + ns.z * z;
+            const Float4 inv = 1.f / sqrt4(ex * ex + ey * ey + ez * ez);
+            dx = ex * inv, dy = ey * inv, dz = ez * inv;
+        }
     };
     static Vec3 lune_direction(const Vec3& ns, const Vec3& m, float c, float u1, float u2) {
         return Lune(ns, m, c).direction(u1, u2);
@@ -273,6 +305,22 @@ struct PlaneLight {
         float miss_all = 1.f - accept;
         miss_all *= miss_all, miss_all *= miss_all, miss_all *= miss_all, miss_all *= miss_all;
         return cos_n / projected_area * (1.f - miss_all);
+    }
+
+    /// retry_numbers for tries k0 … k0 + 3 in lanes (lane 0 of k0 = 0: the first try's own
+    /// (u1, u2)); each lane the scalar operations.
+    static void retry_numbers(float u1, float u2, int k0, Float4& v1, Float4& v2) {
+        auto mix = [](UInt4 h) {
+            h ^= h >> 16, h *= 0x85ebca6bu, h ^= h >> 13, h *= 0xc2b2ae35u, h ^= h >> 16;
+            return h;
+        };
+        const UInt4 k = UInt4{0, 1, 2, 3} + std::uint32_t(k0);
+        const UInt4 b1 = UInt4{} + std::bit_cast<std::uint32_t>(u1), b2 = UInt4{} + std::bit_cast<std::uint32_t>(u2);
+        const UInt4 seed = mix(b1 ^ mix(b2 + 0x9e3779b9u * k));
+        // Below 2^24: exact as signed integers, converted exactly.
+        v1 = to_float4(reinterpret_cast<Int4>(mix(seed) >> 8)) * 0x1p-24f;
+        v2 = to_float4(reinterpret_cast<Int4>(mix(seed ^ 0x68e31da4u) >> 8)) * 0x1p-24f;
+        if (k0 == 0) v1[0] = u1, v2[0] = u2;
     }
 
     /// Try k's two numbers, hashed from the first try's (murmur3's 32-bit finaliser: each

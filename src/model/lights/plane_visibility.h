@@ -223,6 +223,16 @@ public:
             if (lane_bits(wx * m_gx[k] + wy * m_gy[k] + wz * m_gz[k] >= 0.f) != 0xfu) return false;
         return true;
     }
+    /// contains() for four directions in lanes (components wx, wy, wz): a mask, all ones in
+    /// the lanes it holds (each lane the scalar test's operations).
+    Int4 contains(const Float4& wx, const Float4& wy, const Float4& wz) const {
+        Int4 inside = Int4{} - 1;
+        for (int i = 0; i < m_constraints; ++i) {
+            const float gx = m_gx[i / 4][i % 4], gy = m_gy[i / 4][i % 4], gz = m_gz[i / 4][i % 4];
+            inside &= wx * gx + wy * gy + wz * gz >= 0.f;
+        }
+        return inside;
+    }
     float area() const { return m_projected_area; }
     int vertex_count() const { return m_vertices; }
     Vec3 vertex(int i) const { return {m_vx[i / 4][i % 4], m_vy[i / 4][i % 4], m_vz[i / 4][i % 4]}; }
