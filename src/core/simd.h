@@ -35,6 +35,10 @@ inline unsigned lane_bits(Int4 mask) {
     return (mask[0] & 1u) | (mask[1] & 2u) | (mask[2] & 4u) | (mask[3] & 8u);
 #endif
 }
+/// lane_bits of a Double4 comparison's mask.
+inline unsigned lane_bits(const Long4& mask) {
+    return unsigned(mask[0] & 1) | unsigned(mask[1] & 2) | unsigned(mask[2] & 4) | unsigned(mask[3] & 8);
+}
 /// Four floats from p (any alignment).
 inline Float4 load4(const float* p) {
     Float4 v;
