@@ -299,6 +299,8 @@ private:
 inline void VisibleLune::finish(bool edges_are_constraints) {
     double sum = 0.0;
     m_bound_c = 2.f;
+    float gx = 0.f, gy = 0.f, gz = 0.f, g_inv = 0.f;  // the bounding edge's axb and 1/sin θ
+    bool bounded = false;
     const int n = m_vertices;
     // Four edges at a time, each lane the scalar operations of one edge (the same bits; the
     // sum and the bound in edge order, as before): axb = a × b, sin θ = |axb|, θ from atan2
@@ -335,14 +337,20 @@ inline void VisibleLune::finish(bool edges_are_constraints) {
         const Float4 ratio = sin_t > 1e-7f ? theta / sin_t : splat4(1.f);  // θ / sin θ → 1
         const Float4 axb_ns = cx * m_ns.x + cy * m_ns.y + cz * m_ns.z;
         if (edges_are_constraints) m_gx[i0 / 4] = cx, m_gy[i0 / 4] = cy, m_gz[i0 / 4] = cz;
+        // The bound: each edge's c = axb·ns · (1/sin θ) in lanes, the edge taken by the same
+        // comparisons in edge order as selects (which edge wins is data: as branches, they
+        // were mispredicted about once per polygon).
+        const Float4 inv = 1.f / sin_t, bound_c = axb_ns * inv;
         for (int j = 0; j < used; ++j) {
             sum += double(ratio[j]) * axb_ns[j];
-            if (sin_t[j] > 1e-6f && axb_ns[j] < m_bound_c * sin_t[j]) {
-                const float inv = 1.f / sin_t[j];
-                m_bound_c = axb_ns[j] * inv, m_bound = Vec3(cx[j], cy[j], cz[j]) * inv;
-            }
+            const bool tighter = (sin_t[j] > 1e-6f) & (axb_ns[j] < m_bound_c * sin_t[j]);
+            m_bound_c = tighter ? bound_c[j] : m_bound_c;
+            gx = tighter ? cx[j] : gx, gy = tighter ? cy[j] : gy, gz = tighter ? cz[j] : gz;
+            g_inv = tighter ? inv[j] : g_inv;
+            bounded |= tighter;
         }
     }
+    if (bounded) m_bound = Vec3(gx, gy, gz) * g_inv;
     m_projected_area = n ? static_cast<float>(0.5 * sum) : 0.f;
 }
 
