@@ -2,7 +2,9 @@
 // whole range their callers use and beyond.
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <cmath>
+#include <cstdint>
 
 #include "core/fast_math.h"
 #include "core/rng.h"
@@ -65,6 +67,40 @@ TEST(FastMath, Atan2MatchesStdOnTheUpperHalfPlane) {
     // Planted bug: four terms of the series miss the bound by orders of magnitude.
     const double u = 0.41421356237309503, u2 = u * u;
     EXPECT_GT(std::fabs(u * (1 - u2 * (1.0 / 3 - u2 * (1.0 / 5 - u2 / 7))) - std::atan(u)), 1e-5);
+}
+
+TEST(FastMath, LanesGiveTheScalarBits) {
+    // atan2_nonnegative and sincos_quarter_pi in lanes (the plane light's polygon and tries)
+    // compute, lane by lane, the scalar functions' bits, on both sides of every select of the
+    // atan2 reduction (y ≷ |x|, the tan(π/8) shift, x < 0, zeros).
+    spt::Rng rng(7, 8, 9);
+    int checked = 0;
+    for (int k = 0; k < 100000; ++k) {
+        spt::Double4 y, x, out;
+        for (int j = 0; j < 4; ++j) {
+            const double r = std::ldexp(1.0 + rng.uniform(), static_cast<int>(rng.uniform() * 20) - 10);
+            const double angle = rng.uniform() * 3.141592653589793;
+            y[j] = (k + j) % 13 == 0 ? 0.0 : r * std::sin(angle), x[j] = (k + j) % 17 == 0 ? 0.0 : r * std::cos(angle);
+            if (y[j] < 0) y[j] = 0;
+        }
+        spt::atan2_nonnegative(y, x, out);
+        for (int j = 0; j < 4; ++j, ++checked)
+            ASSERT_EQ(std::bit_cast<std::uint64_t>(out[j]), std::bit_cast<std::uint64_t>(spt::atan2_nonnegative(y[j], x[j])))
+                << y[j] << ", " << x[j];
+        const spt::Float4 s = {2.f * rng.uniform() - 1.f, 2.f * rng.uniform() - 1.f, -1.f, 1.f};
+        spt::Float4 sn, cs;
+        spt::sincos_quarter_pi(s, sn, cs);
+        for (int j = 0; j < 4; ++j) {
+            float sn1, cs1;
+            spt::sincos_quarter_pi(s[j], sn1, cs1);
+            ASSERT_EQ(std::bit_cast<std::uint32_t>(sn[j]), std::bit_cast<std::uint32_t>(sn1));
+            ASSERT_EQ(std::bit_cast<std::uint32_t>(cs[j]), std::bit_cast<std::uint32_t>(cs1));
+        }
+    }
+    EXPECT_EQ(checked, 400000);
+    // Planted bug: one ulp off in a lane is told apart (the comparison is of bits).
+    const double a = spt::atan2_nonnegative(1.0, 3.0);
+    EXPECT_NE(std::bit_cast<std::uint64_t>(std::nextafter(a, 1.0)), std::bit_cast<std::uint64_t>(a));
 }
 
 TEST(FastMath, WavelengthSamplerInvertsItsCdf) {

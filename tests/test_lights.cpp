@@ -750,6 +750,98 @@ TEST(PlaneLightPastPlanes, RememberedPolygonGivesTheFreshDensity) {
     EXPECT_GT(differ, checked / 4);
 }
 
+/// The sampler of the lune minus what the blockers hide, one try after the other as it was
+/// written before its tries went four at a time in lanes, with Lambert's formula for Φ from
+/// the polygon's vertices one edge at a time (scalar atan2): the reference sample_li must
+/// equal bit for bit. first_try: the try whose numbers are the sample's own (1: a planted
+/// off-by-one).
+struct ScalarPastPlanes {
+    Vec3 wi;
+    float pdf = 0.f;
+    bool found = false;
+    int tries = 0;  ///< tries made
+};
+ScalarPastPlanes scalar_past_planes(const spt::PlaneLight& light, const LightSampleContext& ctx, float u1, float u2,
+                                    int first_try = 0) {
+    ScalarPastPlanes r;
+    const double s = light.side(ctx.p);
+    if (s == 0.0) return r;
+    const Vec3 m = s > 0.0 ? -light.plane.normal : light.plane.normal;
+    const float c = spt::dot(ctx.ns, m);
+    if (!(1.f + c > spt::PlaneLight::kMinLune)) return r;
+    const spt::VisibleLune& visible = light.visible_from(ctx.p, ctx.ns, s);
+    if (visible.empty()) return r;
+    // Φ edge by edge.
+    double sum = 0.0;
+    const int n = visible.vertex_count();
+    for (int i = 0; i < n; ++i) {
+        const Vec3 a = visible.vertex(i), b = visible.vertex(i + 1 == n ? 0 : i + 1);
+        const Vec3 axb = spt::cross(a, b);
+        const float sin_t = spt::length(axb);
+        const float theta = static_cast<float>(spt::atan2_nonnegative(sin_t, spt::dot(a, b)));
+        sum += double(sin_t > 1e-7f ? theta / sin_t : 1.f) * spt::dot(axb, ctx.ns);
+    }
+    const float area = static_cast<float>(0.5 * sum);
+    EXPECT_EQ(std::bit_cast<std::uint32_t>(area), std::bit_cast<std::uint32_t>(visible.area()));
+    const float c_lune = spt::PlaneLight::sampling_c(visible, c);
+    const spt::PlaneLight::Lune lune(ctx.ns, c_lune == c ? m : visible.bound_normal(), c_lune);
+    float v1 = u1, v2 = u2, cos_n = 0.f;
+    for (int k = first_try; k < first_try + spt::PlaneLight::kMaxTries && !r.found; ++k) {
+        ++r.tries;
+        if (k > 0) spt::PlaneLight::retry_numbers(u1, u2, k, v1, v2);
+        r.wi = lune.direction(v1, v2);
+        cos_n = spt::dot(r.wi, ctx.ns);
+        bool inside = true;
+        for (int i = 0; i < n; ++i)
+            inside = inside && spt::dot(r.wi, spt::cross(visible.vertex(i), visible.vertex(i + 1 == n ? 0 : i + 1))) >= 0.f;
+        r.found = cos_n > 0.f && spt::dot(r.wi, m) > 0.f && inside;
+    }
+    if (r.found) r.pdf = spt::PlaneLight::visible_pdf(cos_n, c_lune, area);
+    return r;
+}
+
+TEST(PlaneLightPastPlanes, LanesGiveTheOneTryAtATimeBits) {
+    // sample_li (tries four at a time in lanes, the polygon's edges in lanes) against the
+    // sampler written one try and one edge at a time: the same direction and density, bit
+    // for bit, in the box with and without its back wall (3- and 4-vertex polygons, and more
+    // where a vertex lies below ns's horizon and the polygon is clipped).
+    const spt::SampledWavelengths lambda = wavelengths();
+    std::mt19937_64 rng(21);
+    std::uniform_real_distribution<float> u(0.f, 1.f);
+    for (const bool with_back : {true, false}) {
+        const Scene scene = plane_box_scene(1.0, with_back);
+        const spt::PlaneLight& light = std::get<spt::PlaneLight>(scene.lights[0]);
+        int sampled = 0, late = 0, later_group = 0, shifted_differs = 0;
+        for (int i = 0; i < 20000; ++i) {
+            Vec3 p(u(rng) * 1.98f - 0.99f, u(rng) * 1.98f - 0.99f, u(rng) * 1.98f - 0.99f);
+            if (i % 5 == 0) p.x = -1.f;  // on a wall: the polygon clipped by ns's hemisphere
+            const Vec3 ns = spt::normalize(Vec3(u(rng) - 0.5f, u(rng) - 0.5f, u(rng) - 0.5f));
+            const LightSampleContext ctx = context(p, ns);
+            const float u1 = u(rng), u2 = u(rng);
+            spt::LightSample ls;
+            const bool found = light.sample_li(ctx, lambda, u1, u2, ls);
+            const ScalarPastPlanes ref = scalar_past_planes(light, ctx, u1, u2);
+            ASSERT_EQ(found, ref.found) << i;
+            if (!found) continue;
+            ++sampled;
+            ASSERT_EQ(std::bit_cast<std::uint32_t>(ls.wi.x), std::bit_cast<std::uint32_t>(ref.wi.x)) << i;
+            ASSERT_EQ(std::bit_cast<std::uint32_t>(ls.wi.y), std::bit_cast<std::uint32_t>(ref.wi.y)) << i;
+            ASSERT_EQ(std::bit_cast<std::uint32_t>(ls.wi.z), std::bit_cast<std::uint32_t>(ref.wi.z)) << i;
+            ASSERT_EQ(std::bit_cast<std::uint32_t>(ls.pdf), std::bit_cast<std::uint32_t>(ref.pdf)) << i;
+            // Tries past the first, and past the first four lanes, are exercised.
+            if (ref.tries > 1) ++late;
+            if (ref.tries > 4) ++later_group;
+            // Planted bug: tries shifted by one (try 1's numbers first) give other directions.
+            const ScalarPastPlanes shifted = scalar_past_planes(light, ctx, u1, u2, 1);
+            if (!shifted.found || shifted.wi != ref.wi) ++shifted_differs;
+        }
+        EXPECT_GT(sampled, 10000) << with_back;
+        EXPECT_GT(late, sampled / 10) << with_back;
+        EXPECT_GT(later_group, 100) << with_back;
+        EXPECT_GT(shifted_differs, sampled / 2) << with_back;
+    }
+}
+
 // ---------------------------- Environment: cosine, or uniform where both sides matter ----------------------------
 
 TEST(EnvironmentLight, CosineAboutTheShadingNormal) {

@@ -5,6 +5,7 @@
 #pragma once
 #include <bit>
 #include <cmath>
+#include <cstdint>
 
 #include "core/simd.h"
 
@@ -36,6 +37,13 @@ inline void sincos_quarter_pi(float s, float& sin_out, float& cos_out) {
     cos_out = 1.f - t2 * (0.5f - t2 * (1.f / 24 - t2 * (1.f / 720 - t2 * (1.f / 40320 - t2 * (1.f / 3628800)))));
 }
 
+/// sincos_quarter_pi in four lanes (the same operations: the same bits in every lane).
+inline void sincos_quarter_pi(Float4 s, Float4& sin_out, Float4& cos_out) {
+    const Float4 t = 0.785398163397448f * s, t2 = t * t;
+    sin_out = t * (1.f - t2 * (1.f / 6 - t2 * (1.f / 120 - t2 * (1.f / 5040 - t2 * (1.f / 362880)))));
+    cos_out = 1.f - t2 * (0.5f - t2 * (1.f / 24 - t2 * (1.f / 720 - t2 * (1.f / 40320 - t2 * (1.f / 3628800)))));
+}
+
 /// atan2(y, x) for y ≥ 0 (an angle in [0, π]; (0, 0) gives 0), in double: with t the ratio
 /// of the smaller of y, |x| to the larger (t ∈ [0, 1]), atan t = π/4 + atan((t − 1)/(t + 1))
 /// above tan(π/8) leaves |u| ≤ tan(π/8) = 0.4142, where eleven terms of u − u³/3 + u⁵/5 − …
@@ -54,6 +62,25 @@ inline double atan2_nonnegative(double y, double x) {
     if (swap) a = 1.5707963267948966 - a;
     if (x < 0.0) a = 3.1415926535897932 - a;
     return a;
+}
+
+/// atan2_nonnegative in four lanes (into `out`), operation for operation the scalar one (the
+/// same bits in every lane: the branches become selects, the two quotients one division of
+/// selected operands, |x| the sign bit cleared).
+inline void atan2_nonnegative(const Double4& y, const Double4& x, Double4& out) {
+    const Double4 zero{};
+    const Double4 ax = reinterpret_cast<Double4>(reinterpret_cast<Long4>(x) & std::int64_t(0x7fffffffffffffff));
+    const Long4 swap = y > ax;
+    const Double4 num = swap ? ax : y, den = swap ? y : ax;
+    const Long4 shift = num > 0.41421356237309503 * den;
+    const Double4 q = (shift ? num - den : num) / (shift ? num + den : den);
+    const Double4 u = den > zero ? q : zero, u2 = u * u;
+    const Double4 series =
+        1.0 - u2 * (1.0 / 3 - u2 * (1.0 / 5 - u2 * (1.0 / 7 - u2 * (1.0 / 9 - u2 * (1.0 / 11 - u2 * (1.0 / 13 -
+        u2 * (1.0 / 15 - u2 * (1.0 / 17 - u2 * (1.0 / 19 - u2 * (1.0 / 21))))))))));
+    Double4 a = (shift ? Double4{} + 0.78539816339744831 : zero) + u * series;
+    a = swap ? 1.5707963267948966 - a : a;
+    out = x < zero ? 3.1415926535897932 - a : a;
 }
 
 }  // namespace spt

@@ -2,14 +2,22 @@
 // (no library): SSE on x86-64, NEON on ARM, plain scalar code elsewhere. Each lane rounds
 // exactly as the scalar operation would, so vector and scalar code give the same bits.
 #pragma once
+#include <cmath>
 #include <cstdint>
+#include <cstring>
 
 namespace spt {
 
 using Float4 = float __attribute__((vector_size(16)));
 using Int4 = std::int32_t __attribute__((vector_size(16)));
+using UInt4 = std::uint32_t __attribute__((vector_size(16)));
 /// Two doubles: the film's sums (double) are built two components at a time.
 using Double2 = double __attribute__((vector_size(16)));
+/// Four doubles (two SSE registers, or one AVX register where the build targets it) and the
+/// masks their comparisons give. Functions take and give them by reference: by value, their
+/// ABI differs between builds with and without AVX (GCC's -Wpsabi).
+using Double4 = double __attribute__((vector_size(32)));
+using Long4 = std::int64_t __attribute__((vector_size(32)));
 
 inline Float4 splat4(float v) { return Float4{v, v, v, v}; }
 inline Int4 splat4(std::int32_t v) { return Int4{v, v, v, v}; }
@@ -27,6 +35,25 @@ inline unsigned lane_bits(Int4 mask) {
     return (mask[0] & 1u) | (mask[1] & 2u) | (mask[2] & 4u) | (mask[3] & 8u);
 #endif
 }
+/// lane_bits of a Double4 comparison's mask.
+inline unsigned lane_bits(const Long4& mask) {
+    return unsigned(mask[0] & 1) | unsigned(mask[1] & 2) | unsigned(mask[2] & 4) | unsigned(mask[3] & 8);
+}
+/// Four floats from p (any alignment).
+inline Float4 load4(const float* p) {
+    Float4 v;
+    std::memcpy(&v, p, sizeof v);
+    return v;
+}
+/// Lane-wise square root, correctly rounded as std::sqrt (the same bits).
+inline Float4 sqrt4(Float4 v) {
+#if defined(__SSE__)
+    return __builtin_ia32_sqrtps(v);
+#else
+    return Float4{std::sqrt(v[0]), std::sqrt(v[1]), std::sqrt(v[2]), std::sqrt(v[3])};
+#endif
+}
+
 /// Lanes 0–1 and lanes 2–3 of a Float4 as doubles (exact).
 inline Double2 low_to_double2(Float4 v) {
     return __builtin_convertvector(__builtin_shufflevector(v, v, 0, 1), Double2);

@@ -5,6 +5,7 @@
 #include <cstdint>
 
 #include "core/frame.h"
+#include "core/simd.h"
 #include "geometry/ray.h"
 
 namespace spt {
@@ -35,8 +36,6 @@ struct Plane {
     /// lane is chosen with a mask: writing a stored point at index `axis` and reading it back
     /// stalls the path on the reload.
     Hit make_axis_hit(const Ray& ray, double t, int axis) const {
-        using Double4 = double __attribute__((vector_size(32)));
-        using Long4 = std::int64_t __attribute__((vector_size(32)));
         const Double4 o = {ray.o.x, ray.o.y, ray.o.z, 0.0}, d = {ray.d.x, ray.d.y, ray.d.z, 0.0};
         // normal[axis] is ±1 and the other two components are 0, so their sum is normal[axis].
         const double on_plane = double(offset) * (normal.x + normal.y + normal.z);

@@ -41,8 +41,6 @@ struct TriangleLanes {
 [[gnu::always_inline]] inline unsigned triangle_candidates(const TriangleLanes& tri, const ShearedRay& r,
                                                            double t_max) {
     if (!r.valid) return 0;
-    using Double4 = double __attribute__((vector_size(32)));
-    using Long4 = std::int64_t __attribute__((vector_size(32)));
     const int kx = r.kx, ky = r.ky, kz = r.kz;
     const Float4 ox = splat4(r.o[kx]), oy = splat4(r.o[ky]), oz = splat4(r.o[kz]);
     const Float4 sx = splat4(r.sx), sy = splat4(r.sy);

@@ -63,8 +63,17 @@ template <bool kTextured>
     float u1, float u2, bool mis, PathStats& stats) {
     float choice = 0.f;
     const int index = choices.sample(u_light, choice);
-    std::optional<LightSample> ls = light_sample_li(scene.lights[index], ctx, lambda, u1, u2);
-    if (!ls) return SampledSpectrum(0.f);
+    // A plane light writes its sample in place (PlaneLight::sample_li); the others return it.
+    LightSample plane_sample;
+    std::optional<LightSample> other_sample;
+    LightSample* ls = &plane_sample;
+    if (const PlaneLight* plane = std::get_if<PlaneLight>(&scene.lights[index])) {
+        if (!plane->sample_li(ctx, lambda, u1, u2, plane_sample)) return SampledSpectrum(0.f);
+    } else {
+        other_sample = light_sample_li(scene.lights[index], ctx, lambda, u1, u2);
+        if (!other_sample) return SampledSpectrum(0.f);
+        ls = &*other_sample;
+    }
     if constexpr (kTextured)
         if (scene.light_textured(index)) ls->L = scene.light_point_emission(index, ls->p, ls->triangle, lambda);
     const SampledSpectrum f_cos = bsdf_eval(bsdf, wo, ls->wi, hit.ns, lambda, TransportMode::radiance);

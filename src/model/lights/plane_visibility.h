@@ -44,6 +44,7 @@
 #include "core/fast_math.h"
 #include "core/frame.h"
 #include "core/math.h"
+#include "core/simd.h"
 #include "core/vec3.h"
 
 namespace spt {
@@ -70,8 +71,25 @@ struct HomogeneousVertex {
 /// them: a convex region, its vertices counter-clockwise about the plane's normal cross(t1,
 /// t2) of visible_region; fewer than 3: nothing is seen.
 struct PlaneRegion {
-    std::array<HomogeneousVertex, 4 + 2 * kMaxPlaneBlockers> vertex{};
+    static constexpr int kMaxCount = 4 + 2 * kMaxPlaneBlockers;
+    std::array<HomogeneousVertex, kMaxCount> vertex{};
     int count = 0;
+    /// The vertices again in lanes (VisibleLune::build transforms four at a time): component
+    /// arrays of v and w, [0] in the order of `vertex`, [1] reversed; lanes past count hold
+    /// (1, 0, 0, 0), whose directions are finite and ignored.
+    static constexpr int kLanes = (kMaxCount + 3) / 4 * 4;
+    alignas(16) float x[2][kLanes]{}, y[2][kLanes]{}, z[2][kLanes]{}, w[2][kLanes]{};
+
+    /// Fills the lanes from vertex[0, count).
+    void make_lanes() {
+        for (int order = 0; order < 2; ++order)
+            for (int i = 0; i < kLanes; ++i) {
+                const bool used = i < count;
+                const HomogeneousVertex h = used ? vertex[static_cast<std::size_t>(order ? count - 1 - i : i)]
+                                                 : HomogeneousVertex{{1.f, 0.f, 0.f}, 0.f};
+                x[order][i] = h.v.x, y[order][i] = h.v.y, z[order][i] = h.v.z, w[order][i] = h.w;
+            }
+    }
 };
 
 /// Clips the convex spherical polygon v[0, n) (unit vertices counter-clockwise about the
@@ -142,7 +160,9 @@ public:
             clip(gu);
         }
         if (m_vertices < 3) m_vertices = 0;
-        finish();
+        pack_vertices();
+        finish(false);
+        pack_constraints();
     }
 
     /// The same polygon from the region of the emitting plane that p's sides of the blockers
@@ -160,23 +180,33 @@ public:
         m_ns = ns;
         const int n = region.count;
         bool below = false;
-        for (int i = 0; i < n; ++i) {
-            const HomogeneousVertex& h = region.vertex[static_cast<std::size_t>(reverse ? n - 1 - i : i)];
-            const Vec3 e = h.v - p * h.w;
-            const Vec3 d = e * (1.f / length(e));
-            m_v[i] = d;
+        // Four vertices at a time, each lane the scalar operations of one vertex (the same
+        // bits): e = v − p·w, d = e·(1/|e|).
+        const int order = reverse ? 1 : 0;
+        for (int i0 = 0; i0 < n; i0 += 4) {
+            const Float4 vx = load4(&region.x[order][i0]), vy = load4(&region.y[order][i0]);
+            const Float4 vz = load4(&region.z[order][i0]), vw = load4(&region.w[order][i0]);
+            const Float4 ex = vx - p.x * vw, ey = vy - p.y * vw, ez = vz - p.z * vw;
+            const Float4 inv = 1.f / sqrt4(ex * ex + ey * ey + ez * ez);
+            const Float4 dx = ex * inv, dy = ey * inv, dz = ez * inv;
             // A vertex on ns's horizon (a region's corner on the wall p lies on) is off it
             // by rounding only: the sliver below, ∫ω·ns over it of order 1e-10 of Φ, is kept.
-            below |= dot(d, ns) < -1e-5f;
+            const int used = n - i0 < 4 ? n - i0 : 4;
+            below |= (lane_bits(dx * ns.x + dy * ns.y + dz * ns.z < -1e-5f) & ((1u << used) - 1u)) != 0;
+            m_vx[i0 / 4] = dx, m_vy[i0 / 4] = dy, m_vz[i0 / 4] = dz;
         }
         m_vertices = n;
-        if (below && n >= 3) clip(ns);
+        if (below && n >= 3) {
+            for (int i = 0; i < n; ++i) m_v[i] = vertex(i);
+            clip(ns);
+            pack_vertices();
+        }
         if (m_vertices < 3) m_vertices = 0;
         // A convex polygon with edges below 180° holds ω iff ω is on the inner side of
-        // every edge's great circle.
-        for (int i = 0; i < m_vertices; ++i) m_g[i] = cross(m_v[i], m_v[i + 1 == m_vertices ? 0 : i + 1]);
+        // every edge's great circle: the constraints are the edges' normals v_i × v_{i+1},
+        // which finish() computes for Lambert's formula anyway and keeps.
         m_constraints = m_vertices;
-        finish();
+        finish(true);
     }
 
     bool empty() const { return !(m_projected_area > 0.f); }
@@ -187,13 +217,25 @@ public:
     float bound_c() const { return m_bound_c; }
     /// True if ω (unit, ω·ns > 0 assumed) is in the polygon: on the plane's side and past every blocker.
     bool contains(const Vec3& w) const {
-        for (int i = 0; i < m_constraints; ++i)
-            if (!(dot(w, m_g[i]) >= 0.f)) return false;
+        // Four constraints at a time (lanes past m_constraints hold g = 0: 0 ≥ 0 passes).
+        const Float4 wx = splat4(w.x), wy = splat4(w.y), wz = splat4(w.z);
+        for (int k = 0; k * 4 < m_constraints; ++k)
+            if (lane_bits(wx * m_gx[k] + wy * m_gy[k] + wz * m_gz[k] >= 0.f) != 0xfu) return false;
         return true;
+    }
+    /// contains() for four directions in lanes (components wx, wy, wz): a mask, all ones in
+    /// the lanes it holds (each lane the scalar test's operations).
+    Int4 contains(const Float4& wx, const Float4& wy, const Float4& wz) const {
+        Int4 inside = Int4{} - 1;
+        for (int i = 0; i < m_constraints; ++i) {
+            const float gx = m_gx[i / 4][i % 4], gy = m_gy[i / 4][i % 4], gz = m_gz[i / 4][i % 4];
+            inside &= wx * gx + wy * gy + wz * gz >= 0.f;
+        }
+        return inside;
     }
     float area() const { return m_projected_area; }
     int vertex_count() const { return m_vertices; }
-    const Vec3& vertex(int i) const { return m_v[i]; }
+    Vec3 vertex(int i) const { return {m_vx[i / 4][i % 4], m_vy[i / 4][i % 4], m_vz[i / 4][i % 4]}; }
 
 private:
     /// The lune as four vertices 90° apart, counter-clockwise about the inside (v_i × v_{i+1}
@@ -219,36 +261,97 @@ private:
     void clip(const Vec3& g) { m_vertices = clip_spherical_polygon(m_v, m_vertices, g); }
 
     Vec3 m_ns;
+    /// The vertices in lanes (components of vertices 4k … 4k + 3; lanes past m_vertices are
+    /// ignored), and as vectors where a clip works on them (m_v: scratch of the clipping).
+    static constexpr int kVertexGroups = (kMaxVertices + 2 + 3) / 4;
+    Float4 m_vx[kVertexGroups]{}, m_vy[kVertexGroups]{}, m_vz[kVertexGroups]{};
     Vec3 m_v[kMaxVertices + 2];
     int m_vertices = 0;
-    Vec3 m_g[kMaxVertices + 2];  ///< the constraints ω·g ≥ 0 (clipping) or the edges' normals (region)
+    /// Copies m_v[0, m_vertices) into the lanes.
+    void pack_vertices() {
+        for (int i = 0; i < m_vertices; ++i)
+            m_vx[i / 4][i % 4] = m_v[i].x, m_vy[i / 4][i % 4] = m_v[i].y, m_vz[i / 4][i % 4] = m_v[i].z;
+    }
+    Vec3 m_g[kMaxVertices + 2];  ///< the clipping constructor's constraints ω·g ≥ 0 (scratch of pack_constraints)
     int m_constraints = 0;
+    /// m_g in lanes for contains(): components of constraints 4k … 4k + 3, zero past m_constraints.
+    static constexpr int kConstraintGroups = (kMaxVertices + 2 + 3) / 4;
+    Float4 m_gx[kConstraintGroups]{}, m_gy[kConstraintGroups]{}, m_gz[kConstraintGroups]{};
+    /// Copies m_g[0, m_constraints) into the lanes.
+    void pack_constraints() {
+        for (int k = 0; k * 4 < m_constraints; ++k)
+            for (int j = 0; j < 4; ++j) {
+                const int i = 4 * k + j;
+                const Vec3 g = i < m_constraints ? m_g[i] : Vec3(0.f, 0.f, 0.f);
+                m_gx[k][j] = g.x, m_gy[k][j] = g.y, m_gz[k][j] = g.z;
+            }
+    }
     float m_projected_area = 0.f;
     Vec3 m_bound;
     float m_bound_c = 2.f;
 
-    /// Φ (Lambert's formula, top of the file) and the bounding edge.
-    void finish();
+    /// Φ (Lambert's formula, top of the file) and the bounding edge from the vertices' lanes;
+    /// edges_are_constraints: the constraints' lanes become the edges' v_i × v_{i+1} (the
+    /// region's polygon, whose constraints they are).
+    void finish(bool edges_are_constraints);
 };
 
-inline void VisibleLune::finish() {
+inline void VisibleLune::finish(bool edges_are_constraints) {
     double sum = 0.0;
     m_bound_c = 2.f;
-    for (int i = 0; i < m_vertices; ++i) {
-        const Vec3& a = m_v[i];
-        const Vec3& b = m_v[i + 1 == m_vertices ? 0 : i + 1];
-        const Vec3 axb = cross(a, b);
-        const float sin_t = length(axb);
-        const float theta = static_cast<float>(atan2_nonnegative(sin_t, dot(a, b)));
-        const float ratio = sin_t > 1e-7f ? theta / sin_t : 1.f;  // θ / sin θ → 1
-        const float axb_ns = dot(axb, m_ns);
-        sum += double(ratio) * axb_ns;
-        if (sin_t > 1e-6f && axb_ns < m_bound_c * sin_t) {
-            const float inv = 1.f / sin_t;
-            m_bound_c = axb_ns * inv, m_bound = axb * inv;
+    float gx = 0.f, gy = 0.f, gz = 0.f, g_inv = 0.f;  // the bounding edge's axb and 1/sin θ
+    bool bounded = false;
+    const int n = m_vertices;
+    // Four edges at a time, each lane the scalar operations of one edge (the same bits; the
+    // sum and the bound in edge order, as before): axb = a × b, sin θ = |axb|, θ from atan2
+    // in double, θ/sin θ, axb·ns. Lanes past n get axb = 0 and are left out of the sums.
+    for (int i0 = 0; i0 < n; i0 += 4) {
+        const int used = n - i0 < 4 ? n - i0 : 4;
+        const int k = i0 / 4;
+        const Float4 ax = m_vx[k], ay = m_vy[k], az = m_vz[k];
+        // b: each lane's next vertex; a rotation of the lanes for the polygons of 3 and 4
+        // vertices (nearly all), gathered from the lanes otherwise.
+        Float4 bx, by, bz;
+        if (n == 3) {
+            bx = __builtin_shufflevector(ax, ax, 1, 2, 0, 3), by = __builtin_shufflevector(ay, ay, 1, 2, 0, 3);
+            bz = __builtin_shufflevector(az, az, 1, 2, 0, 3);
+        } else if (n == 4) {
+            bx = __builtin_shufflevector(ax, ax, 1, 2, 3, 0), by = __builtin_shufflevector(ay, ay, 1, 2, 3, 0);
+            bz = __builtin_shufflevector(az, az, 1, 2, 3, 0);
+        } else {
+            for (int j = 0; j < 4; ++j) {
+                const int i = i0 + j + 1 >= n ? i0 + j + 1 - n : i0 + j + 1;
+                bx[j] = m_vx[i / 4][i % 4], by[j] = m_vy[i / 4][i % 4], bz[j] = m_vz[i / 4][i % 4];
+            }
+        }
+        // Lanes past n: axb = 0 (contains() passes them).
+        const Int4 lane_used = Int4{0, 1, 2, 3} < used;
+        const Float4 zero{};
+        const Float4 cx = lane_used ? ay * bz - az * by : zero, cy = lane_used ? az * bx - ax * bz : zero,
+                     cz = lane_used ? ax * by - ay * bx : zero;
+        const Float4 sin_t = sqrt4(cx * cx + cy * cy + cz * cz);
+        const Float4 cos_t = ax * bx + ay * by + az * bz;
+        Double4 theta_d;
+        atan2_nonnegative(__builtin_convertvector(sin_t, Double4), __builtin_convertvector(cos_t, Double4), theta_d);
+        const Float4 theta = __builtin_convertvector(theta_d, Float4);
+        const Float4 ratio = sin_t > 1e-7f ? theta / sin_t : splat4(1.f);  // θ / sin θ → 1
+        const Float4 axb_ns = cx * m_ns.x + cy * m_ns.y + cz * m_ns.z;
+        if (edges_are_constraints) m_gx[i0 / 4] = cx, m_gy[i0 / 4] = cy, m_gz[i0 / 4] = cz;
+        // The bound: each edge's c = axb·ns · (1/sin θ) in lanes, the edge taken by the same
+        // comparisons in edge order as selects (which edge wins is data: as branches, they
+        // were mispredicted about once per polygon).
+        const Float4 inv = 1.f / sin_t, bound_c = axb_ns * inv;
+        for (int j = 0; j < used; ++j) {
+            sum += double(ratio[j]) * axb_ns[j];
+            const bool tighter = (sin_t[j] > 1e-6f) & (axb_ns[j] < m_bound_c * sin_t[j]);
+            m_bound_c = tighter ? bound_c[j] : m_bound_c;
+            gx = tighter ? cx[j] : gx, gy = tighter ? cy[j] : gy, gz = tighter ? cz[j] : gz;
+            g_inv = tighter ? inv[j] : g_inv;
+            bounded |= tighter;
         }
     }
-    m_projected_area = m_vertices ? static_cast<float>(0.5 * sum) : 0.f;
+    if (bounded) m_bound = Vec3(gx, gy, gz) * g_inv;
+    m_projected_area = n ? static_cast<float>(0.5 * sum) : 0.f;
 }
 
 
@@ -292,6 +395,7 @@ inline PlaneRegion visible_region(const Vec3& normal, float offset, const Vec3& 
     if (n < 3) return region;
     for (int k = 0; k < n; ++k) region.vertex[static_cast<std::size_t>(k)] = {t1 * h[k].x + t2 * h[k].y + o * h[k].z, h[k].z};
     region.count = n;
+    region.make_lanes();
     return region;
 }
 
