@@ -2,8 +2,9 @@
 // → diffuse surface → eye) sampled from the diffuse vertex instead of waiting for BSDF
 // sampling to hit a small light through the ball (fireflies). Exact, without clamping:
 //
-//   At a vertex x with a non-delta lobe, one glass sphere of Scene::caustic_spheres is chosen
-//   uniformly (probability P_s = 1/N) and one light of Scene::caustic_light_choice by power
+//   At a vertex x with a non-delta lobe, the refraction chain is chosen with probability
+//   Scene::refraction_nee_share (else the reflection chain of render/reflection_nee.h), one
+//   glass sphere of Scene::caustic_spheres uniformly (together P_s = share/N) and one light of Scene::caustic_light_choice by power
 //   (P_l); a point y on it is sampled by area: uniformly over a quad (p_A = 1/area), or over the
 //   cap of an emitting sphere that any point of the glass ball can see (z = cos of the angle
 //   at the light's centre from the direction to the ball's centre, z ≥ (r − R)/|c − c_L|: a
@@ -133,7 +134,7 @@ inline bool caustic_segment_blocked(const Scene& scene, const Vec3& a, const Vec
     const int n = chain.solve(roots);
     if (n == 0) return SampledSpectrum(0.f);
     const bool sphere_light = std::holds_alternative<SphereLight>(scene.lights[static_cast<std::size_t>(light)]);
-    const float p_choice = choice * pdf_area / static_cast<float>(n_spheres);
+    const float p_choice = choice * pdf_area * (scene.refraction_nee_share / static_cast<float>(n_spheres));
     SampledSpectrum sum(0.f);
     for (int i = 0; i < n; ++i) {
         const SphereChainRoot& r = roots[i];
@@ -221,7 +222,8 @@ struct CausticChainState {
     if (!(dw_dA > 0.f) || !std::isfinite(dw_dA)) return 1.f;
     const float t_in = 1.f - fresnel_dielectric(static_cast<float>(r.cos_in), gs.eta);
     const float t_out = 1.f - fresnel_dielectric(static_cast<float>(r.cos_t), 1.f / gs.eta);
-    const float p_snee = choice * pdf_area / static_cast<float>(scene.caustic_spheres.size()) / dw_dA;
+    const float p_snee =
+        choice * pdf_area * (scene.refraction_nee_share / static_cast<float>(scene.caustic_spheres.size())) / dw_dA;
     return power_heuristic(s.pdf_x * t_in * t_out, p_snee);
 }
 

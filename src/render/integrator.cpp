@@ -164,17 +164,21 @@ template <bool kTextured, bool kCaustic, class Sampler>
         if constexpr (kCaustic) {
             const bool unbounded = settings.max_depth == IntegratorSettings::kUnbounded;
             caustic_here = non_delta && (unbounded || depth + 1 < settings.max_depth);
-            if (caustic_here && !scene.caustic_spheres.empty() && (unbounded || depth + 2 < settings.max_depth)) {
+            if (caustic_here) {
+                // One chain per vertex: refraction with probability refraction_nee_share,
+                // else reflection (its first number picks the family, then the sphere).
                 seek_dimension(rng, dims::kCausticNee);
                 const float us = rng.uniform(), ul = rng.uniform(), u1 = rng.uniform(), u2 = rng.uniform();
-                L += beta * sample_caustic_nee(scene, bsdf, *hit, wo, lambda, time, us, ul, u1, u2,
-                                               settings.caustic_nee_bug, stats);
-            }
-            if (caustic_here && !scene.reflecting_spheres.empty()) {
-                seek_dimension(rng, dims::kCausticNee);
-                const float us = rng.uniform(), ul = rng.uniform(), u1 = rng.uniform(), u2 = rng.uniform();
-                L += beta * sample_reflection_nee(scene, bsdf, *hit, wo, lambda, time, us, ul, u1, u2,
-                                                  settings.caustic_nee_bug, stats);
+                const float share = scene.refraction_nee_share;
+                if (us < share) {
+                    if (unbounded || depth + 2 < settings.max_depth)
+                        L += beta * sample_caustic_nee(scene, bsdf, *hit, wo, lambda, time, us / share, ul, u1, u2,
+                                                       settings.caustic_nee_bug, stats);
+                } else {
+                    L += beta * sample_reflection_nee(scene, bsdf, *hit, wo, lambda, time,
+                                                      (us - share) / (1.f - share), ul, u1, u2,
+                                                      settings.caustic_nee_bug, stats);
+                }
             }
             terminated_at_x = lambda.secondary_terminated();
         }

@@ -4,8 +4,9 @@
 // shiny and glass balls). The sibling of the refraction chain (render/caustic_nee.h), with
 // the same light choice, area sampling and shadow tests; exact, without clamping:
 //
-//   At a vertex x with a non-delta lobe, one sphere of Scene::reflecting_spheres is chosen
-//   uniformly (P_s = 1/N; x's own sphere gives nothing: no ray leaving a convex ball meets it
+//   At a vertex x with a non-delta lobe, the reflection chain is chosen with probability
+//   1 − Scene::refraction_nee_share (scene.cpp says why it is 0.1 beside glass spheres) and
+//   one sphere of Scene::reflecting_spheres uniformly (together P_s = (1 − share)/N; x's own sphere gives nothing: no ray leaving a convex ball meets it
 //   again), one light of Scene::caustic_light_choice by power (P_l) and a point y on it by
 //   area (p_A: caustic_light_sample, the cap of a sphere light that the ball can see). The
 //   chain x → reflect at P1 → y is solved for all its roots (geometry/sphere_caustics.h,
@@ -90,7 +91,7 @@ inline SampledSpectrum sphere_reflectance(const ReflectingSphere& rs, float cos_
     const int n = chain.solve(roots);
     if (n == 0) return SampledSpectrum(0.f);
     const bool sphere_light = std::holds_alternative<SphereLight>(scene.lights[static_cast<std::size_t>(light)]);
-    const float p_choice = choice * pdf_area / static_cast<float>(n_spheres);
+    const float p_choice = choice * pdf_area * ((1.f - scene.refraction_nee_share) / static_cast<float>(n_spheres));
     const bool terminated = lambda.secondary_terminated();
     SampledSpectrum sum(0.f);
     for (int i = 0; i < n; ++i) {
@@ -143,7 +144,8 @@ inline SampledSpectrum sphere_reflectance(const ReflectingSphere& rs, float cos_
     const float dw_dA = static_cast<float>(r.dw_dAperp) * cos_y;
     if (!(dw_dA > 0.f) || !std::isfinite(dw_dA)) return 1.f;
     const float p_snee =
-        choice * pdf_area / static_cast<float>(scene.reflecting_spheres.size()) / dw_dA;
+        choice * pdf_area * ((1.f - scene.refraction_nee_share) / static_cast<float>(scene.reflecting_spheres.size())) /
+        dw_dA;
     const float p_r = sphere_reflection_probability(rs, static_cast<float>(r.cos_in), lambda, s.terminated_at_x);
     return power_heuristic(s.pdf_x * p_r, p_snee);
 }

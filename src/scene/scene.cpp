@@ -443,6 +443,7 @@ void Scene::find_caustic_spheres() {
     reflecting_spheres.clear();
     reflection_nodes.reset();
     caustic_light_choice = LightDistribution{};
+    refraction_nee_share = 1.f;
     if (effects.media) return;  // the volumetric path tracer does not use them
     const Spectrum zero(SpectrumSource::constant(0.0), SpectralResolution{});
     const Spectrum one(SpectrumSource::constant(1.0), SpectralResolution{});
@@ -503,6 +504,14 @@ void Scene::find_caustic_spheres() {
     }
     if (!reflecting_spheres.empty())
         reflection_nodes = std::make_shared<const SphereChainNodes>(SphereChainNodes::reflection());
+    // With both chains, one vertex in ten samples the reflection: the strategy's main gain is
+    // the MIS weight it lends the BSDF-found reflections off the small lights (the fireflies),
+    // which a rare sample already gives, and the refraction chain keeps most of its samples.
+    // Measured (256², 64 spp, seeds 1-4): relMSE × rays on cornell-sphere and cornell-quad
+    // fell steadily from share 0.5 to 0.97 (0.9 within 1 % of 0.97; sampling both chains at
+    // every vertex cost 1.6x the rays); 0.9 leaves more to scenes whose reflections carry
+    // more of the light.
+    refraction_nee_share = reflecting_spheres.empty() ? 1.f : caustic_spheres.empty() ? 0.f : 0.9f;
     caustic_light_choice.build(power);
     effects.caustic_spheres = true;
 }

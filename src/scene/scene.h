@@ -162,6 +162,9 @@ struct Scene {
     /// The spheres it reflects off (D → R → L), and the solver's table for that chain.
     std::vector<ReflectingSphere> reflecting_spheres;
     std::shared_ptr<const SphereChainNodes> reflection_nodes;
+    /// The probability that a vertex samples the refraction chain rather than the
+    /// reflection chain (1 without reflecting spheres, 0 without glass ones).
+    float refraction_nee_share = 1.f;
     LightDistribution caustic_light_choice;
     Vec3 bounds_center;
     float bounds_radius = 1.f;
