@@ -155,8 +155,9 @@ Options:
                          that hit them) or light (light sampling alone); to measure what MIS
                          buys. Point lights are always sampled
   --caustic-nee on|off   path with --light-sampling mis: specular next-event estimation
-                         through smooth glass spheres (caustics of emitting spheres and
-                         quads under glass balls, weighted by MIS; default on)
+                         through smooth glass spheres and off shiny ones (caustics of
+                         emitting spheres and quads under glass balls and reflected by
+                         mirror-coated or glass balls, weighted by MIS; default on)
   --plane-nee on|off     path: next-event estimation to emitting infinite planes (the
                          cornell ceiling), drawn from what the other planes leave open
                          (default on: about 4x lower relMSE on cornell at 3 to 4x the

@@ -22,8 +22,9 @@ inline constexpr int kBsdfU = 4, kBsdfV = 5;      ///< the BSDF's direction
 inline constexpr int kRoulette = 6;               ///< Russian roulette
 inline constexpr int kBounceDims = 7;
 
-/// Specular next-event estimation through glass spheres (render/caustic_nee.h) draws its four
-/// numbers (sphere, light, point on it) from here: a dimension past every sampler's matrices,
+/// Specular next-event estimation through glass spheres (render/caustic_nee.h) and off
+/// reflecting ones (render/reflection_nee.h) draw their four numbers each (sphere, light,
+/// point on it) from here, in that order: a dimension past every sampler's matrices,
 /// so they come from the sample's PCG stream and the bounce blocks above stay as they were.
 inline constexpr int kCausticNee = 1 << 20;
 

@@ -1,8 +1,9 @@
-// The refraction chain through a smooth dielectric sphere as a one-dimensional problem: the
-// light paths x → (refract in) → (refract out) → y between two points outside a sphere of
-// centre c, radius R and relative index η > 1 (inside over outside), and the density of the
-// direction leaving x per unit area at y. Used by specular next-event estimation
-// (render/caustic_nee.h): caustics seen on diffuse surfaces under glass balls.
+// The refraction chain through a smooth dielectric sphere, and the single mirror reflection
+// off a sphere, as one-dimensional problems: the light paths x → (refract in) → (refract
+// out) → y, or x → (reflect) → y, between two points outside a sphere of centre c, radius R
+// and relative index η > 1 (inside over outside), and the density of the direction leaving x
+// per unit area at y. Used by specular next-event estimation (render/caustic_nee.h):
+// caustics seen on diffuse surfaces under glass balls and beside shiny ones.
 //
 // Why one dimension. Refraction keeps a ray in its plane of incidence, which contains the
 // surface normal, so for a sphere it contains c: the whole chain lies in the plane through
@@ -40,6 +41,26 @@
 // surface) gives |dω/dA| → ∞: an integrable singularity that the caller's MIS against BSDF
 // sampling tames (its weight → 0 where this density → ∞).
 //
+// The reflection chain x → (reflect at P1) → y (Alhazen's billiard problem: up to four
+// solutions on the whole circle; with P1 on the side of the sphere x sees and y ahead of
+// the reflected ray the test never found more than one in 3000 random configurations, as
+// expected of a convex mirror's single virtual image). The mirror law keeps the ray in the plane of incidence, which contains the
+// normal and so c: the same plane and frame, the same parameter θ (the signed angle of
+// incidence at P1) and the same α (sin α = (R/D)·sin θ: the ray's distance from c is
+// D·sin α = R·sin θ). The normal at P1 = c + R·e(φ1) points back at x's side rotated by the
+// incidence, φ1 = π + α − θ (θ = 0: the point of the sphere nearest x), and the reflected
+// ray leaves at β = π + α − 2θ (θ = 0: straight back). These are the refraction chain's
+// formulas with θt = π/2 held fixed (φ2 = α − θ + 2θt = φ1, β = α − 2(θ − θt)), so one code
+// evaluates both: the tables hold sin θt = 1, cos θt = 0, and θt' = 0 in the derivative,
+//   g'(θ) = −β'·e(β)·(y − P1) − R·φ1'·cos θ,   β' = α' − 2,  φ1' = α' − 1
+// (d/dθ of e(β) × w is β'·e⊥(β) × w − e(β) × dP1/dθ; e⊥(β) × w = −e(β)·w; dP1/dθ =
+// R·φ1'·e⊥(φ1) and e(β) × e⊥(φ1) = cos(β − φ1) = cos θ). The Jacobian's derivation above
+// uses only the axial symmetry of the configuration about x–c and the map θ ↦ the outgoing
+// ray, both of which reflection shares, so |dω_x/dA_y| = |cos θ_y|·sin|α|·α'/(|g'(θ)|·ρ_y)
+// holds unchanged (the test compares it with a 3-D finite difference). The exit ray turns by
+// |β'|·π/kCells ≤ 2π/16 per cell, so the "ahead" filter of the scan below holds as well.
+// SphereChainRoot: entry = exit = P1, cos_in = cos θ, cos_t = 0 (no refraction).
+//
 // Root finding: the sign of g is evaluated at kCells + 1 equally spaced θ (π/kCells apart;
 // everything that depends on θ and η alone is tabulated once per sphere, SphereChainNodes, so
 // a node costs one square root, and the loop vectorises) and each cell whose ends differ in
@@ -65,7 +86,7 @@
 
 namespace spt {
 
-/// One solution of the chain x → sphere → sphere → y.
+/// One solution of the chain x → sphere → sphere → y (refraction) or x → sphere → y (reflection).
 struct SphereChainRoot {
     DVec3 wx;         ///< unit direction leaving x
     DVec3 entry;      ///< entry point on the sphere
@@ -81,17 +102,25 @@ struct SphereChainRoot {
 };
 
 /// What the grid of θ needs that depends on θ and η alone, per node θ_k = −π/2 + k·π/kCells:
-/// sin θ and the unit complex numbers e^{i(2θt − 2θ)} and e^{i(2θt − θ)}.
+/// sin θ and the unit complex numbers e^{i(2θt − 2θ)} and e^{i(2θt − θ)} (θt = π/2 for the
+/// reflection chain).
 struct SphereChainNodes {
     static constexpr int kCells = 16;
     double eta = 0;
+    bool reflect = false;  ///< the reflection chain x → P1 → y (eta unused)
     double s[kCells + 1], q2r[kCells + 1], q2i[kCells + 1], pr[kCells + 1], pi[kCells + 1];
 
-    explicit SphereChainNodes(double eta_ = 1.5) : eta(eta_) {
+    /// The refraction chain's table for index eta_ > 1.
+    explicit SphereChainNodes(double eta_ = 1.5) : SphereChainNodes(eta_, false) {}
+    /// The reflection chain's table (one for every sphere).
+    static SphereChainNodes reflection() { return SphereChainNodes(0.0, true); }
+
+private:
+    SphereChainNodes(double eta_, bool reflect_) : eta(eta_), reflect(reflect_) {
         for (int k = 0; k <= kCells; ++k) {
             const double t = -0.5 * kPiDouble + k * (kPiDouble / kCells);
             const double sk = std::sin(t), ck = std::cos(t);
-            const double st = sk / eta, ct = std::sqrt(std::max(0.0, 1.0 - st * st));
+            const double st = reflect ? 1.0 : sk / eta, ct = reflect ? 0.0 : std::sqrt(std::max(0.0, 1.0 - st * st));
             const double qr = ct * ck + st * sk, qi = st * ck - ct * sk;  // e^{i(θt − θ)}
             s[k] = sk;
             q2r[k] = qr * qr - qi * qi, q2i[k] = 2.0 * qr * qi;
@@ -106,14 +135,15 @@ public:
     static constexpr int kCells = SphereChainNodes::kCells;
     static constexpr int kMaxRoots = 8;  ///< more are dropped (never seen; the caller stays exact)
 
-    /// x and y must be outside the sphere (else no roots); nodes.eta > 1 is the index.
+    /// x and y must be outside the sphere (else no roots); nodes.eta > 1 is the index, or
+    /// nodes.reflect chooses the reflection chain.
     SphereChain(const DVec3& x, const DVec3& c, double R, const SphereChainNodes& nodes, const DVec3& y)
-        : m_x(x), m_c(c), m_R(R), m_eta(nodes.eta), m_nodes(&nodes) {
+        : m_x(x), m_c(c), m_R(R), m_eta(nodes.eta), m_nodes(&nodes), m_reflect(nodes.reflect) {
         const double eta = m_eta;
         const DVec3 axis = c - x;
         m_D = length(axis);
         const DVec3 xy = y - x;
-        m_ok = m_D > R && length(y - c) > R && eta > 1.0;
+        m_ok = m_D > R && length(y - c) > R && (eta > 1.0 || m_reflect);
         if (!m_ok) return;
         m_e1 = axis * (1.0 / m_D);
         m_ya = dot(xy, m_e1);
@@ -173,8 +203,9 @@ public:
         Eval e;
         const double sa = m_R / m_D * s;
         const double ca = std::sqrt(std::max(0.0, 1.0 - sa * sa));
-        const double st = s / m_eta;
-        const double ct = std::sqrt(std::max(0.0, 1.0 - st * st));
+        // θt: refracted, or π/2 for the reflection chain (see the header).
+        const double st = m_reflect ? 1.0 : s / m_eta;
+        const double ct = m_reflect ? 0.0 : std::sqrt(std::max(0.0, 1.0 - st * st));
         // q = e^{i(θt − θ)}
         const double qr = ct * c + st * s, qi = st * c - ct * s;
         // e^{iβ} = e^{iα}·q², e^{iφ2} = e^{iα}·q·e^{iθt}
@@ -190,7 +221,7 @@ public:
         e.along = br * wa + bi * wh;
         e.h = e.g / std::sqrt(wa * wa + wh * wh);
         const double alpha_p = m_R * c / (m_D * ca);
-        const double theta_t_p = c / (m_eta * ct);
+        const double theta_t_p = m_reflect ? 0.0 : c / (m_eta * ct);
         const double beta_p = alpha_p - 2.0 + 2.0 * theta_t_p;
         const double phi2_p = alpha_p - 1.0 + 2.0 * theta_t_p;
         e.dg = -beta_p * e.along - m_R * phi2_p * c;
@@ -262,6 +293,7 @@ private:
     DVec3 m_x, m_c, m_e1, m_e2;
     double m_R, m_eta;
     const SphereChainNodes* m_nodes;
+    bool m_reflect = false;
     double m_D = 0, m_ya = 0, m_rho = 0;
     bool m_ok = false;
 };
@@ -291,6 +323,20 @@ inline bool trace_through_sphere(const DVec3& x, const DVec3& w, const DVec3& c,
     const double t2 = -2.0 * dot(p1 - c, d1);
     exit = p1 + d1 * t2;
     return refract3(d1, -((exit - c) * (1.0 / R)), 1.0 / eta, w_exit);
+}
+
+/// A ray x + t·w mirrored off the sphere in 3-D, for tests: false when it misses the sphere.
+inline bool reflect_off_sphere(const DVec3& x, const DVec3& w, const DVec3& c, double R, DVec3& p, DVec3& w_out) {
+    const DVec3 oc = x - c;
+    const double b = dot(oc, w), cc = dot(oc, oc) - R * R;
+    const double disc = b * b - cc;
+    if (disc < 0.0) return false;
+    const double t1 = -b - std::sqrt(disc);
+    if (t1 <= 0.0) return false;
+    p = x + w * t1;
+    const DVec3 n = (p - c) * (1.0 / R);
+    w_out = normalize(w - n * (2.0 * dot(w, n)));
+    return true;
 }
 
 }  // namespace spt

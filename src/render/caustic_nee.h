@@ -2,8 +2,9 @@
 // → diffuse surface → eye) sampled from the diffuse vertex instead of waiting for BSDF
 // sampling to hit a small light through the ball (fireflies). Exact, without clamping:
 //
-//   At a vertex x with a non-delta lobe, one glass sphere of Scene::caustic_spheres is chosen
-//   uniformly (probability P_s = 1/N) and one light of Scene::caustic_light_choice by power
+//   At a vertex x with a non-delta lobe, the refraction chain is chosen with probability
+//   Scene::refraction_nee_share (else the reflection chain of render/reflection_nee.h), one
+//   glass sphere of Scene::caustic_spheres uniformly (together P_s = share/N) and one light of Scene::caustic_light_choice by power
 //   (P_l); a point y on it is sampled by area: uniformly over a quad (p_A = 1/area), or over the
 //   cap of an emitting sphere that any point of the glass ball can see (z = cos of the angle
 //   at the light's centre from the direction to the ball's centre, z ≥ (r − R)/|c − c_L|: a
@@ -45,28 +46,30 @@
 
 namespace spt {
 
-/// The cap of sphere light s that glass sphere gs can see: the points whose outward normal
-/// has z ≥ z_min about the axis from the light's centre to the glass's (area 2πr²(1 − z_min)).
+/// The cap of sphere light s that sphere `sphere` (index in Scene::spheres: the glass ball,
+/// or the ball of the reflection chain) can see: the points whose outward normal has
+/// z ≥ z_min about the axis from the light's centre to the ball's (area 2πr²(1 − z_min)).
 struct VisibleCap {
     Vec3 axis;   ///< glass centre − light centre
     float dist;  ///< |axis|
     float z_min;
     float area_pdf(float r) const { return 1.f / (2.f * kPi * r * r * (1.f - z_min)); }
 };
-inline VisibleCap visible_cap(const Scene& scene, const CausticSphere& gs, const SphereLight& s) {
-    const Sphere& glass = scene.spheres[static_cast<std::size_t>(gs.sphere)];
+inline VisibleCap visible_cap(const Scene& scene, int sphere, const SphereLight& s) {
+    const Sphere& glass = scene.spheres[static_cast<std::size_t>(sphere)];
     const Vec3 axis = glass.center - s.sphere.center;
     const float dist = length(axis);
     return {axis, dist, std::max(-1.f, (s.sphere.radius - glass.radius) / dist)};
 }
 
-/// The density per unit area with which the strategy samples y on light `index` for glass
-/// sphere `gs` (0 when the light is not one it samples by area, or y is outside its cap).
-inline float caustic_light_area_pdf(const Scene& scene, const CausticSphere& gs, int index, const Vec3& y) {
+/// The density per unit area with which the strategy samples y on light `index` for sphere
+/// `sphere` (index in Scene::spheres; 0 when the light is not one it samples by area, or y is
+/// outside its cap).
+inline float caustic_light_area_pdf(const Scene& scene, int sphere, int index, const Vec3& y) {
     const Light& light = scene.lights[static_cast<std::size_t>(index)];
     if (const QuadLight* q = std::get_if<QuadLight>(&light)) return 1.f / q->area();
     if (const SphereLight* s = std::get_if<SphereLight>(&light)) {
-        const VisibleCap cap = visible_cap(scene, gs, *s);
+        const VisibleCap cap = visible_cap(scene, sphere, *s);
         const float r = s->sphere.radius;
         const float z = dot(y - s->sphere.center, cap.axis) / (cap.dist * r);
         if (z < cap.z_min) return 0.f;
@@ -75,9 +78,9 @@ inline float caustic_light_area_pdf(const Scene& scene, const CausticSphere& gs,
     return 0.f;
 }
 
-/// A point y on light `index` sampled by area for glass sphere `gs`, with its normal and
-/// density; false when the light is not one the strategy samples.
-inline bool caustic_light_sample(const Scene& scene, const CausticSphere& gs, int index, float u1, float u2, Vec3& y,
+/// A point y on light `index` sampled by area for sphere `sphere` (index in Scene::spheres),
+/// with its normal and density; false when the light is not one the strategy samples.
+inline bool caustic_light_sample(const Scene& scene, int sphere, int index, float u1, float u2, Vec3& y,
                                  Vec3& n, float& pdf_area) {
     const Light& light = scene.lights[static_cast<std::size_t>(index)];
     if (const QuadLight* q = std::get_if<QuadLight>(&light)) {
@@ -87,7 +90,7 @@ inline bool caustic_light_sample(const Scene& scene, const CausticSphere& gs, in
         return true;
     }
     if (const SphereLight* s = std::get_if<SphereLight>(&light)) {
-        const VisibleCap cap = visible_cap(scene, gs, *s);
+        const VisibleCap cap = visible_cap(scene, sphere, *s);
         const float r = s->sphere.radius;
         // Uniform over the cap.
         const float z = 1.f - u1 * (1.f - cap.z_min);
@@ -125,13 +128,13 @@ inline bool caustic_segment_blocked(const Scene& scene, const Vec3& a, const Vec
     const int light = scene.caustic_light_choice.sample(u_light, choice);
     Vec3 y, n_y;
     float pdf_area = 0.f;
-    if (!caustic_light_sample(scene, gs, light, u1, u2, y, n_y, pdf_area)) return SampledSpectrum(0.f);
+    if (!caustic_light_sample(scene, gs.sphere, light, u1, u2, y, n_y, pdf_area)) return SampledSpectrum(0.f);
     const SphereChain chain(DVec3(hit.p), DVec3(glass.center), glass.radius, *gs.nodes, DVec3(y));
     SphereChainRoot roots[SphereChain::kMaxRoots];
     const int n = chain.solve(roots);
     if (n == 0) return SampledSpectrum(0.f);
     const bool sphere_light = std::holds_alternative<SphereLight>(scene.lights[static_cast<std::size_t>(light)]);
-    const float p_choice = choice * pdf_area / static_cast<float>(n_spheres);
+    const float p_choice = choice * pdf_area * (scene.refraction_nee_share / static_cast<float>(n_spheres));
     SampledSpectrum sum(0.f);
     for (int i = 0; i < n; ++i) {
         const SphereChainRoot& r = roots[i];
@@ -167,9 +170,13 @@ inline bool caustic_segment_blocked(const Scene& scene, const Vec3& a, const Vec
 /// non-delta vertex x, the direction and density it left with, and how far along the chain
 /// x → in → out → emitter it is.
 struct CausticChainState {
-    enum Stage : std::uint8_t { none, left_x, inside, out };
+    /// reflected: x → reflected off a sphere of Scene::reflecting_spheres (render/reflection_nee.h).
+    enum Stage : std::uint8_t { none, left_x, inside, out, reflected };
     Stage stage = none;
-    int sphere = -1;  ///< index in Scene::caustic_spheres once inside
+    int sphere = -1;  ///< index in Scene::caustic_spheres once inside (reflecting_spheres once reflected)
+    /// The wavelengths' state at x before it sampled (the reflection's lobe choice is taken
+    /// over the wavelengths live there: render/reflection_nee.h).
+    bool terminated_at_x = false;
     Vec3 x, wx;
     float pdf_x = 0.f;
 
@@ -178,6 +185,14 @@ struct CausticChainState {
         if (hit.prim.kind() != ShapeKind::sphere) return -1;
         for (std::size_t i = 0; i < scene.caustic_spheres.size(); ++i)
             if (static_cast<std::uint32_t>(scene.caustic_spheres[i].sphere) == hit.prim.index())
+                return static_cast<int>(i);
+        return -1;
+    }
+    /// Index in scene.reflecting_spheres of the sphere `hit` is on, or −1.
+    static int reflecting_sphere_at(const Scene& scene, const Hit& hit) {
+        if (hit.prim.kind() != ShapeKind::sphere) return -1;
+        for (std::size_t i = 0; i < scene.reflecting_spheres.size(); ++i)
+            if (static_cast<std::uint32_t>(scene.reflecting_spheres[i].sphere) == hit.prim.index())
                 return static_cast<int>(i);
         return -1;
     }
@@ -192,7 +207,7 @@ struct CausticChainState {
     if (!(choice > 0.f)) return 1.f;
     const CausticSphere& gs = scene.caustic_spheres[static_cast<std::size_t>(s.sphere)];
     const Sphere& glass = scene.spheres[static_cast<std::size_t>(gs.sphere)];
-    const float pdf_area = caustic_light_area_pdf(scene, gs, light, hit.p);
+    const float pdf_area = caustic_light_area_pdf(scene, gs.sphere, light, hit.p);
     if (!(pdf_area > 0.f)) return 1.f;
     const SphereChain chain(DVec3(s.x), DVec3(glass.center), glass.radius, *gs.nodes, DVec3(hit.p));
     SphereChainRoot roots[SphereChain::kMaxRoots];
@@ -207,7 +222,8 @@ struct CausticChainState {
     if (!(dw_dA > 0.f) || !std::isfinite(dw_dA)) return 1.f;
     const float t_in = 1.f - fresnel_dielectric(static_cast<float>(r.cos_in), gs.eta);
     const float t_out = 1.f - fresnel_dielectric(static_cast<float>(r.cos_t), 1.f / gs.eta);
-    const float p_snee = choice * pdf_area / static_cast<float>(scene.caustic_spheres.size()) / dw_dA;
+    const float p_snee =
+        choice * pdf_area * (scene.refraction_nee_share / static_cast<float>(scene.caustic_spheres.size())) / dw_dA;
     return power_heuristic(s.pdf_x * t_in * t_out, p_snee);
 }
 

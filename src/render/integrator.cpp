@@ -8,6 +8,7 @@
 #include "core/sobol_sampler.h"
 #include "model/bsdfs/bsdf.h"
 #include "render/caustic_nee.h"
+#include "render/reflection_nee.h"
 #include "render/direct_light.h"
 #include "render/light_context.h"
 #include "render/mis.h"
@@ -137,9 +138,12 @@ template <bool kTextured, bool kCaustic, class Sampler>
         if (hit->light >= 0) {
             float w =
                 mis_emission ? emission_weight(scene, choices, hit->light, prev_ctx, prev_pdf, ray.d, &*hit) : 1.f;
-            if constexpr (kCaustic)
+            if constexpr (kCaustic) {
                 if (chain.stage == CausticChainState::out)
                     w = caustic_emission_weight(scene, chain, *hit, hit->light, settings.caustic_nee_bug);
+                else if (chain.stage == CausticChainState::reflected)
+                    w = reflection_emission_weight(scene, chain, *hit, hit->light, lambda, settings.caustic_nee_bug);
+            }
             if constexpr (kTextured) L += beta * scene.emitted_textured(*hit, lambda) * w;
             else L += beta * scene.emitted(*hit, lambda) * w;
         }
@@ -161,19 +165,31 @@ template <bool kTextured, bool kCaustic, class Sampler>
             L += beta * sample_area_light<kTextured>(scene, choices, bsdf, *hit, ctx, wo, lambda, time, ul, ul1, ul2,
                                           settings.light_sampling == LightSampling::mis, stats);
         }
-        // ---- Specular next-event estimation through a glass sphere, where BSDF sampling
-        // could reach the same path before max_depth (its two refractions are bounces depth + 1
-        // and depth + 2) ----
+        // ---- Specular next-event estimation through a glass sphere and off a reflecting
+        // one, where BSDF sampling could reach the same path before max_depth (the two
+        // refractions are bounces depth + 1 and depth + 2, the reflection depth + 1) ----
         [[maybe_unused]] bool caustic_here = false;
+        [[maybe_unused]] bool terminated_at_x = false;
         if constexpr (kCaustic) {
-            caustic_here = non_delta && (settings.max_depth == IntegratorSettings::kUnbounded ||
-                                         depth + 2 < settings.max_depth);
+            const bool unbounded = settings.max_depth == IntegratorSettings::kUnbounded;
+            caustic_here = non_delta && (unbounded || depth + 1 < settings.max_depth);
             if (caustic_here) {
+                // One chain per vertex: refraction with probability refraction_nee_share,
+                // else reflection (its first number picks the family, then the sphere).
                 seek_dimension(rng, dims::kCausticNee);
                 const float us = rng.uniform(), ul = rng.uniform(), u1 = rng.uniform(), u2 = rng.uniform();
-                L += beta * sample_caustic_nee(scene, bsdf, *hit, wo, lambda, time, us, ul, u1, u2,
-                                               settings.caustic_nee_bug, stats);
+                const float share = scene.refraction_nee_share;
+                if (us < share) {
+                    if (unbounded || depth + 2 < settings.max_depth)
+                        L += beta * sample_caustic_nee(scene, bsdf, *hit, wo, lambda, time, us / share, ul, u1, u2,
+                                                       settings.caustic_nee_bug, stats);
+                } else {
+                    L += beta * sample_reflection_nee(scene, bsdf, *hit, wo, lambda, time,
+                                                      (us - share) / (1.f - share), ul, u1, u2,
+                                                      settings.caustic_nee_bug, stats);
+                }
             }
+            terminated_at_x = lambda.secondary_terminated();
         }
 
         // ---- Continue the path ----
@@ -185,11 +201,17 @@ template <bool kTextured, bool kCaustic, class Sampler>
         beta *= bs->weight;
         eta_scale *= bs->eta_scale;
         if constexpr (kCaustic) {
-            // Where the sampled path stands on a chain x → in → out → emitter.
+            // Where the sampled path stands on a chain x → in → out → emitter or x → reflect
+            // → emitter. (A chain the depth leaves no room for cannot reach its emitter.)
             const bool refracted = bs->is_delta() && bs->flags.has(BsdfFlags::transmission);
+            const bool reflected = bs->is_delta() && !bs->flags.has(BsdfFlags::transmission);
             if (!bs->is_delta() && caustic_here) {
                 chain.stage = CausticChainState::left_x;
                 chain.x = hit->p, chain.wx = bs->wi, chain.pdf_x = bs->pdf;
+                chain.terminated_at_x = terminated_at_x;
+            } else if (chain.stage == CausticChainState::left_x && reflected && dot(wo, hit->n) > 0.f &&
+                       (chain.sphere = CausticChainState::reflecting_sphere_at(scene, *hit)) >= 0) {
+                chain.stage = CausticChainState::reflected;
             } else if (chain.stage == CausticChainState::left_x && refracted && dot(wo, hit->n) > 0.f &&
                        (chain.sphere = CausticChainState::caustic_sphere_at(scene, *hit)) >= 0) {
                 chain.stage = CausticChainState::inside;

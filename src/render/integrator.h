@@ -15,9 +15,10 @@
 
 namespace spt {
 
-/// Planted bugs of specular next-event estimation, for its unbiasedness test only (the test
-/// must catch each): the BSDF side's MIS weight dropped (1), or the Jacobian's cos θ_y.
-enum class CausticNeeBug : std::uint8_t { none, no_bsdf_side_weight, no_cos_y };
+/// Planted bugs of specular next-event estimation, for its unbiasedness tests only (the tests
+/// must catch each): the BSDF side's MIS weight dropped (1), or the Jacobian's cos θ_y, or
+/// (reflection chain) the Fresnel reflectance taken from the inside of the ball (1/η).
+enum class CausticNeeBug : std::uint8_t { none, no_bsdf_side_weight, no_cos_y, wrong_reflectance };
 
 struct IntegratorSettings {
     static constexpr int kUnbounded = -1;
@@ -53,7 +54,8 @@ struct IntegratorSettings {
     /// s = 0 and t = 2, which is kept in every class), so a strategy that is wrong alone shows.
     int bdpt_only_s = -1, bdpt_only_t = -1;
     /// path with light_sampling mis: specular next-event estimation through smooth glass
-    /// spheres (render/caustic_nee.h) in scenes that have them (Effects::caustic_spheres).
+    /// spheres (render/caustic_nee.h) and off spheres with a delta reflection lobe
+    /// (render/reflection_nee.h) in scenes that have them (Effects::caustic_spheres).
     bool caustic_nee = true;
     CausticNeeBug caustic_nee_bug = CausticNeeBug::none;  ///< tests only
 };

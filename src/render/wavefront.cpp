@@ -62,7 +62,7 @@ const char* wavefront_unsupported(const Scene& scene, const IntegratorSettings& 
     if (scene.effects.textures) return "textures";
     if (sampler != SamplerKind::independent) return "the sobol sampler";
     if (scene.effects.caustic_spheres && settings.caustic_nee && settings.light_sampling == LightSampling::mis)
-        return "specular next-event estimation through glass spheres (add --caustic-nee off)";
+        return "specular next-event estimation through or off spheres (add --caustic-nee off)";
     return nullptr;
 }
 

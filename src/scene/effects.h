@@ -17,8 +17,9 @@ struct Effects {
     bool motion_blur = false;        ///< something moves while the shutter is open
     bool media = false;              ///< participating media: the volumetric path tracer
     bool textures = false;           ///< a material or emitter bound to a texture
-    /// Smooth glass spheres and emitting spheres or quads, without media: the path tracer's
-    /// specular next-event estimation through the spheres (render/caustic_nee.h) applies.
+    /// Smooth glass spheres or spheres with a delta reflection lobe, and emitting spheres or
+    /// quads, without media: the path tracer's specular next-event estimation through the
+    /// spheres (render/caustic_nee.h) or off them (render/reflection_nee.h) applies.
     bool caustic_spheres = false;
 
     std::string describe() const;

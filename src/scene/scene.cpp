@@ -440,12 +440,36 @@ void Scene::finalize() {
 
 void Scene::find_caustic_spheres() {
     caustic_spheres.clear();
+    reflecting_spheres.clear();
+    reflection_nodes.reset();
     caustic_light_choice = LightDistribution{};
+    refraction_nee_share = 1.f;
     if (effects.media) return;  // the volumetric path tracer does not use them
+    const Spectrum zero(SpectrumSource::constant(0.0), SpectralResolution{});
+    const Spectrum one(SpectrumSource::constant(1.0), SpectralResolution{});
     for (std::size_t i = 0; i < spheres.size(); ++i) {
         const Sphere& s = spheres[i];
         const Material& m = materials[s.material];
         if (s.light >= 0 || m.textured || !(s.radius > 0.f)) continue;
+        // The reflection chain: a delta reflection lobe whose reflectance the strategy knows.
+        ReflectingSphere r;
+        r.sphere = static_cast<int>(i);
+        if (const LobeMixBsdf* b = std::get_if<LobeMixBsdf>(&m.bsdf)) {
+            const bool fresnel = b->has_transmission() && b->eta.is_constant() && b->eta.eval(560.f) > 1.f;
+            if ((b->has_mirror() || fresnel) && (!b->has_transmission() || fresnel)) {
+                r.eta = fresnel ? b->eta.eval(560.f) : 1.f;
+                r.kd = b->kd, r.ks = b->ks, r.kt = b->kt;
+                r.has_kd = b->has_diffuse(), r.has_kt = fresnel;
+                reflecting_spheres.push_back(r);
+            }
+        } else if (const DielectricBsdf* d = std::get_if<DielectricBsdf>(&m.bsdf)) {
+            if (d->ggx.is_smooth() && !d->film.present() && !d->is_dispersive() && d->eta.eval(560.f) > 1.f) {
+                r.eta = d->eta.eval(560.f);
+                r.kd = zero, r.ks = zero, r.kt = one;
+                r.has_kt = true;
+                reflecting_spheres.push_back(r);
+            }
+        }
         CausticSphere c;
         c.sphere = static_cast<int>(i);
         if (const LobeMixBsdf* b = std::get_if<LobeMixBsdf>(&m.bsdf)) {
@@ -463,7 +487,7 @@ void Scene::find_caustic_spheres() {
         c.nodes = std::make_shared<const SphereChainNodes>(c.eta);
         caustic_spheres.push_back(c);
     }
-    if (caustic_spheres.empty()) return;
+    if (caustic_spheres.empty() && reflecting_spheres.empty()) return;
     std::vector<float> power(lights.size(), 0.f);
     bool any = false;
     for (std::size_t i = 0; i < lights.size(); ++i) {
@@ -475,8 +499,19 @@ void Scene::find_caustic_spheres() {
     }
     if (!any) {
         caustic_spheres.clear();
+        reflecting_spheres.clear();
         return;
     }
+    if (!reflecting_spheres.empty())
+        reflection_nodes = std::make_shared<const SphereChainNodes>(SphereChainNodes::reflection());
+    // With both chains, one vertex in ten samples the reflection: the strategy's main gain is
+    // the MIS weight it lends the BSDF-found reflections off the small lights (the fireflies),
+    // which a rare sample already gives, and the refraction chain keeps most of its samples.
+    // Measured (256², 64 spp, seeds 1-4): relMSE × rays on cornell-sphere and cornell-quad
+    // fell steadily from share 0.5 to 0.97 (0.9 within 1 % of 0.97; sampling both chains at
+    // every vertex cost 1.6x the rays); 0.9 leaves more to scenes whose reflections carry
+    // more of the light.
+    refraction_nee_share = reflecting_spheres.empty() ? 1.f : caustic_spheres.empty() ? 0.f : 0.9f;
     caustic_light_choice.build(power);
     effects.caustic_spheres = true;
 }

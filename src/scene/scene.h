@@ -72,6 +72,20 @@ struct CausticSphere {
     std::shared_ptr<const SphereChainNodes> nodes;  ///< the chain solver's table for eta
 };
 
+/// A smooth sphere with a delta reflection lobe that specular next-event estimation reflects
+/// light off (render/caustic_nee.h): its material is a LobeMixBsdf with a mirror lobe (ks)
+/// or a transmission lobe of constant index (kt: Fresnel reflection), or a smooth
+/// DielectricBsdf without a film and with a constant index; it is not textured, does not
+/// emit and does not move. Reflectance along the chain: ks + kt·F(cos θ, eta); the BSDF
+/// picks that reflection with probability (k̄s + k̄t·F)/(k̄d + k̄s + k̄t), k̄ the mean over the
+/// live wavelengths (a DielectricBsdf is kd = ks = 0, kt = 1).
+struct ReflectingSphere {
+    int sphere = -1;  ///< index in Scene::spheres
+    float eta = 1.f;  ///< index of the Fresnel lobe (unused when kt is zero)
+    Spectrum kd, ks, kt;
+    bool has_kd = false, has_kt = false;
+};
+
 struct Scene {
     std::string name;
     /// One line for --list-scenes: the file's "summary", else the first sentence of its
@@ -145,6 +159,12 @@ struct Scene {
     /// the glass spheres it sees through, and the lights it samples by area (emitting spheres
     /// and quads without an emission texture) chosen by power.
     std::vector<CausticSphere> caustic_spheres;
+    /// The spheres it reflects off (D → R → L), and the solver's table for that chain.
+    std::vector<ReflectingSphere> reflecting_spheres;
+    std::shared_ptr<const SphereChainNodes> reflection_nodes;
+    /// The probability that a vertex samples the refraction chain rather than the
+    /// reflection chain (1 without reflecting spheres, 0 without glass ones).
+    float refraction_nee_share = 1.f;
     LightDistribution caustic_light_choice;
     Vec3 bounds_center;
     float bounds_radius = 1.f;
@@ -331,7 +351,8 @@ private:
     void finalize_lights();
     /// Checks the media (coefficients, g, boxes) and that every shape has its interface.
     void finalize_media();
-    /// Finds caustic_spheres and caustic_light_choice, and sets effects.caustic_spheres.
+    /// Finds caustic_spheres, reflecting_spheres and caustic_light_choice, and sets
+    /// effects.caustic_spheres: the one place that decides which spheres qualify.
     void find_caustic_spheres();
     static Hit with_prim(Hit hit, ShapeKind kind, std::ptrdiff_t index) {
         hit.prim = PrimId(kind, static_cast<std::uint32_t>(index));
