@@ -181,22 +181,38 @@ struct CausticChainState {
     float pdf_x = 0.f;
 
     /// Index in scene.caustic_spheres of the sphere `hit` is on, or −1.
-    static int caustic_sphere_at(const Scene& scene, const Hit& hit) {
-        if (hit.prim.kind() != ShapeKind::sphere) return -1;
-        for (std::size_t i = 0; i < scene.caustic_spheres.size(); ++i)
-            if (static_cast<std::uint32_t>(scene.caustic_spheres[i].sphere) == hit.prim.index())
-                return static_cast<int>(i);
-        return -1;
-    }
+    static int caustic_sphere_at(const Scene& scene, const Hit& hit) { return index_at(scene.caustic_spheres, hit); }
     /// Index in scene.reflecting_spheres of the sphere `hit` is on, or −1.
     static int reflecting_sphere_at(const Scene& scene, const Hit& hit) {
+        return index_at(scene.reflecting_spheres, hit);
+    }
+
+private:
+    /// Index of the entry of `spheres` (each naming a sphere of the scene) that `hit` is on, or −1.
+    template <class Entries>
+    static int index_at(const Entries& spheres, const Hit& hit) {
         if (hit.prim.kind() != ShapeKind::sphere) return -1;
-        for (std::size_t i = 0; i < scene.reflecting_spheres.size(); ++i)
-            if (static_cast<std::uint32_t>(scene.reflecting_spheres[i].sphere) == hit.prim.index())
-                return static_cast<int>(i);
+        for (std::size_t i = 0; i < spheres.size(); ++i)
+            if (static_cast<std::uint32_t>(spheres[i].sphere) == hit.prim.index()) return static_cast<int>(i);
         return -1;
     }
 };
+
+/// The root of the chain from s.x over `ball` to hit.p that the path took (its direction
+/// within float rounding of s.wx: roots of one configuration lie far apart except at a fold,
+/// where the weight hardly matters) and its density |dω_x/dA_y|; false when the solver does
+/// not return it (the BSDF side then keeps weight 1).
+inline bool matched_chain_root(const CausticChainState& s, const Sphere& ball, const SphereChainNodes& nodes,
+                               const Hit& hit, SphereChainRoot& root, float& dw_dA) {
+    const SphereChain chain(DVec3(s.x), DVec3(ball.center), ball.radius, nodes, DVec3(hit.p));
+    SphereChainRoot roots[SphereChain::kMaxRoots];
+    const int n = chain.solve(roots);
+    const int i = SphereChain::find_matching_root(roots, n, DVec3(s.wx), 1e-3);
+    if (i < 0) return false;
+    root = roots[i];
+    dw_dA = static_cast<float>(root.dw_dAperp) * std::fabs(dot(hit.n, root.w_exit.to_float()));
+    return dw_dA > 0.f && std::isfinite(dw_dA);
+}
 
 /// The BSDF side's MIS weight of emission found along a chain x → in → out → `hit` (light
 /// `light`): see the header. 1 when the strategy could not have produced this path.
@@ -209,17 +225,9 @@ struct CausticChainState {
     const Sphere& glass = scene.spheres[static_cast<std::size_t>(gs.sphere)];
     const float pdf_area = caustic_light_area_pdf(scene, gs.sphere, light, hit.p);
     if (!(pdf_area > 0.f)) return 1.f;
-    const SphereChain chain(DVec3(s.x), DVec3(glass.center), glass.radius, *gs.nodes, DVec3(hit.p));
-    SphereChainRoot roots[SphereChain::kMaxRoots];
-    const int n = chain.solve(roots);
-    // The path's root: its direction within float rounding of the path's (roots of one
-    // configuration lie far apart except at a fold, where the weight hardly matters).
-    const int i = SphereChain::find_matching_root(roots, n, DVec3(s.wx), 1e-3);
-    if (i < 0) return 1.f;
-    const SphereChainRoot& r = roots[i];
-    const float cos_y = std::fabs(dot(hit.n, r.w_exit.to_float()));
-    const float dw_dA = static_cast<float>(r.dw_dAperp) * cos_y;
-    if (!(dw_dA > 0.f) || !std::isfinite(dw_dA)) return 1.f;
+    SphereChainRoot r{};
+    float dw_dA = 0.f;
+    if (!matched_chain_root(s, glass, *gs.nodes, hit, r, dw_dA)) return 1.f;
     const float t_in = 1.f - fresnel_dielectric(static_cast<float>(r.cos_in), gs.eta);
     const float t_out = 1.f - fresnel_dielectric(static_cast<float>(r.cos_t), 1.f / gs.eta);
     const float p_snee =

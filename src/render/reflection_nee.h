@@ -134,15 +134,9 @@ inline SampledSpectrum sphere_reflectance(const ReflectingSphere& rs, float cos_
     const Sphere& ball = scene.spheres[static_cast<std::size_t>(rs.sphere)];
     const float pdf_area = caustic_light_area_pdf(scene, rs.sphere, light, hit.p);
     if (!(pdf_area > 0.f)) return 1.f;
-    const SphereChain chain(DVec3(s.x), DVec3(ball.center), ball.radius, *scene.reflection_nodes, DVec3(hit.p));
-    SphereChainRoot roots[SphereChain::kMaxRoots];
-    const int n = chain.solve(roots);
-    const int i = SphereChain::find_matching_root(roots, n, DVec3(s.wx), 1e-3);
-    if (i < 0) return 1.f;
-    const SphereChainRoot& r = roots[i];
-    const float cos_y = std::fabs(dot(hit.n, r.w_exit.to_float()));
-    const float dw_dA = static_cast<float>(r.dw_dAperp) * cos_y;
-    if (!(dw_dA > 0.f) || !std::isfinite(dw_dA)) return 1.f;
+    SphereChainRoot r{};
+    float dw_dA = 0.f;
+    if (!matched_chain_root(s, ball, *scene.reflection_nodes, hit, r, dw_dA)) return 1.f;
     const float p_snee =
         choice * pdf_area * ((1.f - scene.refraction_nee_share) / static_cast<float>(scene.reflecting_spheres.size())) /
         dw_dA;
