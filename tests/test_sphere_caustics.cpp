@@ -66,6 +66,25 @@ std::vector<double> dense_roots(const SphereChain& chain, int cells) {
     return roots;
 }
 
+/// Roots of `dense` that the solver's `roots` lack. Each must lie within one solver cell of
+/// another dense root (a fold: two roots merging, which the caller's MIS covers); an isolated
+/// miss fails the test.
+int count_missed_roots(const SphereChainRoot* roots, int n, const std::vector<double>& dense, int trial) {
+    const double cell = kPiDouble / SphereChain::kCells;
+    int missed = 0;
+    for (std::size_t k = 0; k < dense.size(); ++k) {
+        bool found = false;
+        for (int i = 0; i < n; ++i) found |= std::fabs(roots[i].theta - dense[k]) < 1e-7;
+        if (found) continue;
+        bool near_other = false;
+        for (std::size_t j = 0; j < dense.size(); ++j) near_other |= j != k && std::fabs(dense[j] - dense[k]) < cell;
+        EXPECT_TRUE(near_other) << "trial " << trial << " missed an isolated root at θ = " << dense[k];
+        ++missed;
+    }
+    return missed;
+}
+
+
 TEST(SphereCaustics, EveryRootIsAChainAndNoneIsMissedAwayFromFolds) {
     std::mt19937_64 gen(7);
     const DVec3 c(0.3, -0.2, 0.1);
@@ -94,17 +113,7 @@ TEST(SphereCaustics, EveryRootIsAChainAndNoneIsMissedAwayFromFolds) {
         // Every root of the dense scan is found, except pairs closer than the solver's cell
         // (a fold: two roots merging), which the caller's MIS covers.
         const std::vector<double> dense = dense_roots(chain, 20000);
-        const double cell = kPiDouble / SphereChain::kCells;
-        for (std::size_t k = 0; k < dense.size(); ++k) {
-            bool found = false;
-            for (int i = 0; i < n; ++i) found |= std::fabs(roots[i].theta - dense[k]) < 1e-7;
-            if (found) continue;
-            bool near_other = false;
-            for (std::size_t j = 0; j < dense.size(); ++j)
-                near_other |= j != k && std::fabs(dense[j] - dense[k]) < cell;
-            EXPECT_TRUE(near_other) << "trial " << trial << " missed an isolated root at θ = " << dense[k];
-            ++missed_near_fold;
-        }
+        missed_near_fold += count_missed_roots(roots, n, dense, trial);
         EXPECT_LE(n, static_cast<int>(dense.size())) << trial;
     }
     EXPECT_GT(roots_total, configurations / 4);  // the test exercises roots at all
@@ -278,17 +287,7 @@ TEST(SphereReflection, EveryRootReflectsToYAndNoneIsMissedAwayFromFolds) {
         // Every root of a dense scan is found, except pairs closer than the solver's cell.
         const std::vector<double> dense = dense_roots(chain, 20000);
         EXPECT_LE(dense.size(), 4u) << trial;  // Alhazen's problem: at most four
-        const double cell = kPiDouble / SphereChain::kCells;
-        for (std::size_t k = 0; k < dense.size(); ++k) {
-            bool found = false;
-            for (int i = 0; i < n; ++i) found |= std::fabs(roots[i].theta - dense[k]) < 1e-7;
-            if (found) continue;
-            bool near_other = false;
-            for (std::size_t j = 0; j < dense.size(); ++j)
-                near_other |= j != k && std::fabs(dense[j] - dense[k]) < cell;
-            EXPECT_TRUE(near_other) << "trial " << trial << " missed an isolated root at θ = " << dense[k];
-            ++missed_near_fold;
-        }
+        missed_near_fold += count_missed_roots(roots, n, dense, trial);
         EXPECT_LE(n, static_cast<int>(dense.size())) << trial;
     }
     EXPECT_GT(roots_total, 1000);

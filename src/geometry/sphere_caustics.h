@@ -298,6 +298,19 @@ private:
     bool m_ok = false;
 };
 
+/// The first point where the ray x + t·w (w unit, x outside) meets the sphere, for the 3-D
+/// tracers below: false when it misses.
+inline bool first_sphere_hit(const DVec3& x, const DVec3& w, const DVec3& c, double R, DVec3& p) {
+    const DVec3 oc = x - c;
+    const double b = dot(oc, w), cc = dot(oc, oc) - R * R;
+    const double disc = b * b - cc;
+    if (disc < 0.0) return false;
+    const double t1 = -b - std::sqrt(disc);
+    if (t1 <= 0.0) return false;
+    p = x + w * t1;
+    return true;
+}
+
 /// A ray x + t·w traced through the sphere with Snell's law in 3-D (entry, chord, exit), for
 /// tests: false when it misses the sphere or is totally reflected.
 inline bool trace_through_sphere(const DVec3& x, const DVec3& w, const DVec3& c, double R, double eta, DVec3& exit,
@@ -310,13 +323,8 @@ inline bool trace_through_sphere(const DVec3& x, const DVec3& w, const DVec3& c,
         out = normalize(d * (1.0 / eta_rel) + n * (ci / eta_rel - std::sqrt(1.0 - s2)));
         return true;
     };
-    const DVec3 oc = x - c;
-    const double b = dot(oc, w), cc = dot(oc, oc) - R * R;
-    const double disc = b * b - cc;
-    if (disc < 0.0) return false;
-    const double t1 = -b - std::sqrt(disc);
-    if (t1 <= 0.0) return false;
-    const DVec3 p1 = x + w * t1;
+    DVec3 p1;
+    if (!first_sphere_hit(x, w, c, R, p1)) return false;
     DVec3 d1;
     if (!refract3(w, (p1 - c) * (1.0 / R), eta, d1)) return false;
     // Inside: the far intersection of p1 + t·d1.
@@ -327,13 +335,7 @@ inline bool trace_through_sphere(const DVec3& x, const DVec3& w, const DVec3& c,
 
 /// A ray x + t·w mirrored off the sphere in 3-D, for tests: false when it misses the sphere.
 inline bool reflect_off_sphere(const DVec3& x, const DVec3& w, const DVec3& c, double R, DVec3& p, DVec3& w_out) {
-    const DVec3 oc = x - c;
-    const double b = dot(oc, w), cc = dot(oc, oc) - R * R;
-    const double disc = b * b - cc;
-    if (disc < 0.0) return false;
-    const double t1 = -b - std::sqrt(disc);
-    if (t1 <= 0.0) return false;
-    p = x + w * t1;
+    if (!first_sphere_hit(x, w, c, R, p)) return false;
     const DVec3 n = (p - c) * (1.0 / R);
     w_out = normalize(w - n * (2.0 * dot(w, n)));
     return true;

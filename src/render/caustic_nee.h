@@ -114,6 +114,44 @@ inline bool caustic_segment_blocked(const Scene& scene, const Vec3& a, const Vec
     return scene.occluded(Ray{a + w * (1e-4f * len), w, len * (1.f - 2e-4f)}, {}, time);
 }
 
+/// A light point sampled for the chain over one ball and the chain's roots towards it: the
+/// part both chains (this one, render/reflection_nee.h) share.
+struct ChainLightSample {
+    Vec3 y, n_y;
+    float p_choice = 0.f;  ///< P_s·P_l·p_A(y): the strategy's density per unit area at y
+    int light = -1;
+    bool sphere_light = false;
+    int n = 0;
+    SphereChainRoot roots[SphereChain::kMaxRoots];
+};
+
+/// Picks a light by power, a point y on it by area, and solves the chain from x over sphere
+/// `sphere_index` with `nodes` towards y; `p_sphere`: the probability with which this chain
+/// and ball were chosen. False when nothing can contribute.
+inline bool sample_chain_light(const Scene& scene, int sphere_index, const SphereChainNodes& nodes, const Vec3& x,
+                               float p_sphere, float u_light, float u1, float u2, ChainLightSample& out) {
+    const Sphere& ball = scene.spheres[static_cast<std::size_t>(sphere_index)];
+    float choice = 0.f;
+    const int light = out.light = scene.caustic_light_choice.sample(u_light, choice);
+    float pdf_area = 0.f;
+    if (!caustic_light_sample(scene, sphere_index, light, u1, u2, out.y, out.n_y, pdf_area)) return false;
+    const SphereChain chain(DVec3(x), DVec3(ball.center), ball.radius, nodes, DVec3(out.y));
+    out.n = chain.solve(out.roots);
+    out.sphere_light = std::holds_alternative<SphereLight>(scene.lights[static_cast<std::size_t>(light)]);
+    out.p_choice = choice * pdf_area * p_sphere;
+    return out.n > 0;
+}
+
+/// |dω_x/dA_y| of root r at the sampled light point, 0 when it cannot contribute (a sphere
+/// light emits from its outside only, so it must face the arriving ray).
+inline float chain_root_area_density(const ChainLightSample& s, const SphereChainRoot& r, CausticNeeBug bug) {
+    const float cos_y_signed = dot(s.n_y, r.w_exit.to_float());
+    if (s.sphere_light && !(cos_y_signed < 0.f)) return 0.f;
+    const float cos_y = bug == CausticNeeBug::no_cos_y ? 1.f : std::fabs(cos_y_signed);
+    const float dw_dA = static_cast<float>(r.dw_dAperp) * cos_y;
+    return dw_dA > 0.f && std::isfinite(dw_dA) ? dw_dA : 0.f;
+}
+
 /// The strategy's contribution at vertex `hit` (BSDF `bsdf`, outgoing wo); see the header.
 /// u_sphere, u_light: the choices; u1, u2: the point on the light.
 [[gnu::noinline]] inline SampledSpectrum sample_caustic_nee(const Scene& scene, const Bsdf& bsdf, const Hit& hit,
@@ -123,28 +161,19 @@ inline bool caustic_segment_blocked(const Scene& scene, const Vec3& a, const Vec
     const int n_spheres = static_cast<int>(scene.caustic_spheres.size());
     const int k = std::min(static_cast<int>(u_sphere * static_cast<float>(n_spheres)), n_spheres - 1);
     const CausticSphere& gs = scene.caustic_spheres[static_cast<std::size_t>(k)];
-    const Sphere& glass = scene.spheres[static_cast<std::size_t>(gs.sphere)];
-    float choice = 0.f;
-    const int light = scene.caustic_light_choice.sample(u_light, choice);
-    Vec3 y, n_y;
-    float pdf_area = 0.f;
-    if (!caustic_light_sample(scene, gs.sphere, light, u1, u2, y, n_y, pdf_area)) return SampledSpectrum(0.f);
-    const SphereChain chain(DVec3(hit.p), DVec3(glass.center), glass.radius, *gs.nodes, DVec3(y));
-    SphereChainRoot roots[SphereChain::kMaxRoots];
-    const int n = chain.solve(roots);
-    if (n == 0) return SampledSpectrum(0.f);
-    const bool sphere_light = std::holds_alternative<SphereLight>(scene.lights[static_cast<std::size_t>(light)]);
-    const float p_choice = choice * pdf_area * (scene.refraction_nee_share / static_cast<float>(n_spheres));
+    ChainLightSample ls;
+    if (!sample_chain_light(scene, gs.sphere, *gs.nodes, hit.p, scene.refraction_nee_share / static_cast<float>(n_spheres),
+                            u_light, u1, u2, ls))
+        return SampledSpectrum(0.f);
+    const Vec3 y = ls.y;
+    const float p_choice = ls.p_choice;
+    const int light = ls.light;
     SampledSpectrum sum(0.f);
-    for (int i = 0; i < n; ++i) {
-        const SphereChainRoot& r = roots[i];
-        const Vec3 wx = r.wx.to_float(), w_exit = r.w_exit.to_float();
-        // The emitter must face the arriving ray (a sphere light emits from its outside).
-        const float cos_y_signed = dot(n_y, w_exit);
-        if (sphere_light && !(cos_y_signed < 0.f)) continue;
-        const float cos_y = bug == CausticNeeBug::no_cos_y ? 1.f : std::fabs(cos_y_signed);
-        const float dw_dA = static_cast<float>(r.dw_dAperp) * cos_y;
-        if (!(dw_dA > 0.f) || !std::isfinite(dw_dA)) continue;
+    for (int i = 0; i < ls.n; ++i) {
+        const SphereChainRoot& r = ls.roots[i];
+        const Vec3 wx = r.wx.to_float();
+        const float dw_dA = chain_root_area_density(ls, r, bug);
+        if (dw_dA == 0.f) continue;
         const SampledSpectrum f_cos = bsdf_eval(bsdf, wo, wx, hit.ns, lambda, TransportMode::radiance);
         if (f_cos.is_zero()) continue;
         const float t_in = 1.f - fresnel_dielectric(static_cast<float>(r.cos_in), gs.eta);

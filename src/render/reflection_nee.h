@@ -80,29 +80,20 @@ inline SampledSpectrum sphere_reflectance(const ReflectingSphere& rs, float cos_
     const ReflectingSphere& rs = scene.reflecting_spheres[static_cast<std::size_t>(k)];
     if (hit.prim.kind() == ShapeKind::sphere && hit.prim.index() == static_cast<std::uint32_t>(rs.sphere))
         return SampledSpectrum(0.f);
-    const Sphere& ball = scene.spheres[static_cast<std::size_t>(rs.sphere)];
-    float choice = 0.f;
-    const int light = scene.caustic_light_choice.sample(u_light, choice);
-    Vec3 y, n_y;
-    float pdf_area = 0.f;
-    if (!caustic_light_sample(scene, rs.sphere, light, u1, u2, y, n_y, pdf_area)) return SampledSpectrum(0.f);
-    const SphereChain chain(DVec3(hit.p), DVec3(ball.center), ball.radius, *scene.reflection_nodes, DVec3(y));
-    SphereChainRoot roots[SphereChain::kMaxRoots];
-    const int n = chain.solve(roots);
-    if (n == 0) return SampledSpectrum(0.f);
-    const bool sphere_light = std::holds_alternative<SphereLight>(scene.lights[static_cast<std::size_t>(light)]);
-    const float p_choice = choice * pdf_area * ((1.f - scene.refraction_nee_share) / static_cast<float>(n_spheres));
+    ChainLightSample ls;
+    if (!sample_chain_light(scene, rs.sphere, *scene.reflection_nodes, hit.p,
+                            (1.f - scene.refraction_nee_share) / static_cast<float>(n_spheres), u_light, u1, u2, ls))
+        return SampledSpectrum(0.f);
+    const Vec3 y = ls.y;
+    const float p_choice = ls.p_choice;
+    const int light = ls.light;
     const bool terminated = lambda.secondary_terminated();
     SampledSpectrum sum(0.f);
-    for (int i = 0; i < n; ++i) {
-        const SphereChainRoot& r = roots[i];
-        const Vec3 wx = r.wx.to_float(), w_out = r.w_exit.to_float();
-        // The emitter must face the arriving ray (a sphere light emits from its outside).
-        const float cos_y_signed = dot(n_y, w_out);
-        if (sphere_light && !(cos_y_signed < 0.f)) continue;
-        const float cos_y = bug == CausticNeeBug::no_cos_y ? 1.f : std::fabs(cos_y_signed);
-        const float dw_dA = static_cast<float>(r.dw_dAperp) * cos_y;
-        if (!(dw_dA > 0.f) || !std::isfinite(dw_dA)) continue;
+    for (int i = 0; i < ls.n; ++i) {
+        const SphereChainRoot& r = ls.roots[i];
+        const Vec3 wx = r.wx.to_float();
+        const float dw_dA = chain_root_area_density(ls, r, bug);
+        if (dw_dA == 0.f) continue;
         const SampledSpectrum f_cos = bsdf_eval(bsdf, wo, wx, hit.ns, lambda, TransportMode::radiance);
         if (f_cos.is_zero()) continue;
         const float cos_in = static_cast<float>(r.cos_in);
