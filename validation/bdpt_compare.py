@@ -21,21 +21,13 @@ import time
 import zlib
 
 import numpy as np
+from pfm import read_pfm  # noqa: F401  (the report reads renders through it)
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 EXE = os.path.join(ROOT, "build", "pathtracer")
 RESULTS = os.path.join(ROOT, "validation", "results")
 CACHE = os.path.join(ROOT, "build", "bdpt_reference")
 INTEGRATORS = ("path", "bdpt", "vcm")
-
-
-def read_pfm(path):
-    with open(path, "rb") as f:
-        data = f.read()
-    header, dims, scale, pixels = data.split(b"\n", 3)
-    w, h = map(int, dims.split())
-    dtype = "<f4" if float(scale) < 0 else ">f4"
-    return np.frombuffer(pixels, dtype=dtype, count=w * h * 3).reshape(h, w, 3)[::-1].astype(np.float64)
 
 
 def render(scene, integrator, size, spp, out, threads, seed=0):

@@ -51,6 +51,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
+from pfm import read_pfm  # noqa: F401  (other tools use bm.read_pfm)
 
 REPO_ROOT = Path(__file__).resolve().parent.parent
 
@@ -93,39 +94,6 @@ def say(*args: object) -> None:
 
 # --------------------------------------------------------------------------
 # Images
-
-
-def read_pfm(path: Path) -> np.ndarray:
-    """Read a colour PFM ("PF") file; returns float64 (height, width, 3), top row first."""
-    data = path.read_bytes()
-    # Header: three whitespace-separated tokens, then exactly one whitespace byte.
-    tokens: list[bytes] = []
-    pos = 0
-    while len(tokens) < 4:
-        while pos < len(data) and data[pos : pos + 1].isspace():
-            pos += 1
-        start = pos
-        while pos < len(data) and not data[pos : pos + 1].isspace():
-            pos += 1
-        if start == pos:
-            raise BenchError(f"{path}: truncated PFM header")
-        tokens.append(data[start:pos])
-    pos += 1  # the single whitespace byte after the scale
-    magic, w_tok, h_tok, scale_tok = tokens
-    if magic != b"PF":
-        raise BenchError(f"{path}: not a colour PFM file (magic {magic!r})")
-    try:
-        width, height, scale = int(w_tok), int(h_tok), float(scale_tok)
-    except ValueError as e:
-        raise BenchError(f"{path}: bad PFM header: {e}") from None
-    if width <= 0 or height <= 0 or scale == 0 or not math.isfinite(scale):
-        raise BenchError(f"{path}: bad PFM header ({width} x {height}, scale {scale})")
-    dtype = "<f4" if scale < 0 else ">f4"
-    count = width * height * 3
-    if len(data) - pos != count * 4:
-        raise BenchError(f"{path}: {len(data) - pos} bytes of pixels, expected {count * 4} for {width}x{height}")
-    img = np.frombuffer(data, dtype=dtype, count=count, offset=pos).reshape(height, width, 3)
-    return img[::-1].astype(np.float64)  # PFM rows go bottom to top
 
 
 def rel_mse(img: np.ndarray, ref: np.ndarray) -> float:

@@ -91,6 +91,7 @@ from functools import lru_cache
 from pathlib import Path
 
 import numpy as np
+from pfm import read_pfm  # noqa: F401  (re-exported for the tests)
 
 warnings.filterwarnings("ignore", message='"SciPy" related API')
 import colour  # noqa: E402
@@ -273,20 +274,6 @@ def delta_e(xyz_a: np.ndarray, xyz_b: np.ndarray, illuminant: str) -> np.ndarray
 # ---------------------------------------------------------------------------------------
 # Rendering and patch averages
 # ---------------------------------------------------------------------------------------
-
-def read_pfm(path: Path) -> np.ndarray:
-    """float64 array (height, width, 3), row 0 = top of the image."""
-    data = path.read_bytes()
-    header = re.match(rb"PF\s+(\d+)\s+(\d+)\s+(\S+)\s", data)
-    if not header:
-        raise ValueError(f"{path}: not an RGB PFM file")
-    width, height, scale = int(header[1]), int(header[2]), float(header[3])
-    dtype = "<f4" if scale < 0 else ">f4"
-    pixels = np.frombuffer(data, dtype=dtype, offset=header.end())
-    if pixels.size != width * height * 3:
-        raise ValueError(f"{path}: wrong pixel count")
-    return pixels.reshape(height, width, 3)[::-1].astype(float)  # stored bottom to top
-
 
 def scene_file(illuminant: str) -> Path:
     return SCENES_DIR / f"{SCENES[illuminant]}.json"

@@ -18,11 +18,11 @@ same paths; the film keeps XYZ and converts when the file is written. Checks:
 
 from __future__ import annotations
 
-import re
 import subprocess
 from pathlib import Path
 
 import numpy as np
+from pfm import read_pfm
 import OpenEXR
 import pytest
 
@@ -33,18 +33,6 @@ RELATIVE_TOLERANCE = 1e-4
 
 COLOUR_SCIENCE_NAMES = {"srgb": "sRGB", "rec2020": "ITU-R BT.2020", "acescg": "ACEScg"}
 XYZ_CHROMATICITIES = np.array([1, 0, 0, 1, 0, 0, 1 / 3, 1 / 3])  # OpenEXR: CIE XYZ data
-
-
-def read_pfm(path: Path) -> np.ndarray:
-    """float64 array (height, width, 3), row 0 = top."""
-    data = path.read_bytes()
-    header = re.match(rb"PF\s+(\d+)\s+(\d+)\s+(\S+)\s", data)
-    assert header, f"{path}: not an RGB PFM file"
-    width, height, scale = int(header[1]), int(header[2]), float(header[3])
-    dtype = "<f4" if scale < 0 else ">f4"
-    pixels = np.frombuffer(data, dtype=dtype, offset=header.end())
-    assert pixels.size == width * height * 3, f"{path}: wrong pixel count"
-    return pixels.reshape(height, width, 3)[::-1].astype(float)
 
 
 def exr_chromaticities(path: Path) -> np.ndarray:

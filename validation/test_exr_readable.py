@@ -3,26 +3,14 @@ the same image as its PFM output from the same render (our own writers, src/io/)
 
 from __future__ import annotations
 
-import re
 import subprocess
 from pathlib import Path
 
 import numpy as np
 import OpenEXR
+from pfm import read_pfm
 
 WIDTH, HEIGHT = 16, 8
-
-
-def read_pfm(path: Path) -> np.ndarray:
-    """float32 array (height, width, 3), row 0 = top."""
-    data = path.read_bytes()
-    header = re.match(rb"PF\s+(\d+)\s+(\d+)\s+(\S+)\s", data)
-    assert header, f"{path}: not an RGB PFM file"
-    width, height, scale = int(header[1]), int(header[2]), float(header[3])
-    dtype = "<f4" if scale < 0 else ">f4"  # the sign of the scale gives the byte order
-    pixels = np.frombuffer(data, dtype=dtype, offset=header.end())
-    assert pixels.size == width * height * 3, f"{path}: wrong pixel count"
-    return pixels.reshape(height, width, 3)[::-1].astype(np.float32)  # stored bottom to top
 
 
 def read_exr(path: Path) -> tuple[dict, np.ndarray]:

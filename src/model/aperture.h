@@ -29,7 +29,7 @@ struct Aperture {
 
     /// Uniform point of the opening (density 1/area()) from two uniform numbers. Out of line:
     /// inlined into the render loop, it made the loop big enough that GCC stopped inlining
-    /// the cosine warp and Film::add_sample on the pinhole path (cornell 4.6 % slower).
+    /// the cosine warp and Film::add_sample on the pinhole path (4.6 % slower per path).
     AperturePoint sample(float u1, float u2) const;
 };
 

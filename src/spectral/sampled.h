@@ -21,7 +21,7 @@ struct SampledSpectrum {
     /// The lanes as one vector, not an array of four floats: GCC splits a small array held in
     /// registers into four scalars (scalar replacement of aggregates) and rebuilds the vector
     /// through memory for each vector operation, four narrow stores and a wide load that
-    /// cannot be forwarded (on cornell the path's radiance stalled so on its way to the film).
+    /// cannot be forwarded (the path's radiance stalled so on its way to the film).
     Float4 v{};
 
     SampledSpectrum() = default;

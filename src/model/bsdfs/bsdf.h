@@ -48,7 +48,7 @@ using Bsdf = std::variant<DiffuseBsdf, LobeMixBsdf, ConductorBsdf, DielectricBsd
 
 /// Calls f with the BSDF's alternative: a chain of index tests, inlined, most common type
 /// first (std::visit compiled to an out-of-line call through a table, and next-event
-/// estimation on cornell-point spent 6 % more time per path with it).
+/// estimation to point lights spent 6 % more time per path with it).
 template <std::size_t I = 0, typename F>
 [[gnu::always_inline]] inline decltype(auto) visit_bsdf(const Bsdf& bsdf, F&& f) {
     if constexpr (I + 1 < std::variant_size_v<Bsdf>) {
@@ -80,7 +80,7 @@ inline float bsdf_pdf(const Bsdf& bsdf, const Vec3& wo, const Vec3& wi, const Ve
     if (dot(wo, n) == 0.f) return std::nullopt;  // exactly tangent: no side to scatter to
     // The diffuse case outside the visitor: an attribute on a lambda's operator() is not one
     // GCC 12 applies, and the lambda compiled to an out-of-line call from the path loop (13 %
-    // of cornell's time was in it).
+    // of a diffuse scene's time was in it).
     if (const DiffuseBsdf* diffuse = std::get_if<DiffuseBsdf>(&bsdf)) [[likely]]
         return diffuse->sample(wo, n, lambda, u1, u2);
     return visit_bsdf(bsdf, [&](const auto& b) -> std::optional<BsdfSample> {

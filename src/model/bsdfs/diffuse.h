@@ -27,7 +27,7 @@ inline float lambertian_pdf(const Vec3& wo, const Vec3& wi, const Vec3& n) {
 
 /// Cosine-weighted direction on wo's side, the lobe chosen with probability p_lobe. Always
 /// inlined: as a call from the path loop, the loop saved and reloaded its vector registers
-/// around every diffuse bounce (1.3 % of the time per path on cornell).
+/// around every diffuse bounce (1.3 % of the time per path in a diffuse box).
 [[gnu::always_inline]] inline std::optional<BsdfSample> lambertian_sample(const Spectrum& kd, const Vec3& wo,
                                                                           const Vec3& n,
                                                                           const SampledWavelengths& lambda,
