@@ -51,12 +51,15 @@ set(SPT_CORE_SOURCES
     src/render/wavefront.cpp
     src/scene/builtin_scenes.cpp
     src/scene/effects.cpp
-    src/scene/json_checker.cpp
+    src/scene/param_checker.cpp
+    src/scene/scene_description.cpp
+    src/scene/scene_builder.cpp
+    src/scene/json_scene_reader.cpp
     src/scene/medium_parser.cpp
     src/scene/material_types.cpp
     src/scene/scene.cpp
     src/scene/scene_motion.cpp
-    src/scene/scene_loader.cpp
+    src/scene/scene_readers.cpp
     src/scene/scene_textures.cpp
     src/scene/texture_parser.cpp
     src/scene/spectrum_parser.cpp

@@ -28,7 +28,7 @@
 #include "render/renderer.h"
 #include "render/wavefront.h"
 #include "io/json.h"
-#include "scene/json_checker.h"
+#include "scene/param_checker.h"
 #include "scene/scene_loader.h"
 #include "spectral/rgb_to_spectrum.h"
 #include "spectral/sensor.h"

@@ -17,6 +17,7 @@
 #include "io/image_encoders.h"
 #include "io/image_writer.h"
 #include "io/json.h"
+#include "scene/json_scene_reader.h"
 #include "scene/texture_parser.h"
 #include "spectral/rgb_texels.h"
 #include "spectral/rgb_to_spectrum.h"
@@ -115,9 +116,9 @@ Loaded load_texture(const std::string& definition, const std::string& bytes, Tex
     };
     const SpectrumParser spectra("t.json", resolution);
     TextureParser parser("t.json", resolution, spectra, reader, l.scene);
-    const JsonValue defs = parse_json("{\"t\": " + definition + "}", "t.json");
+    const ParamValue defs = param_value_from_json(parse_json("{\"t\": " + definition + "}", "t.json"));
     parser.definitions(defs);
-    const JsonValue binding = parse_json(R"({"texture": "t"})", "t.json");
+    const ParamValue binding = ParamValue::dict({{"texture", ParamValue::string("t")}});
     l.texture = parser.bind(binding, "value", use);
     return l;
 }

@@ -1,4 +1,5 @@
-// Parsing and checks of the conductor, dielectric, plastic and thin_sheet materials.
+// The material types' create functions and their table, and the checks of the microfacet
+// types' parameters.
 #include "scene/material_types.h"
 
 #include <algorithm>
@@ -6,39 +7,38 @@
 #include <sstream>
 
 #include "scene/scene.h"
+#include "scene/texture_parser.h"
 #include "spectral/metal_catalog.h"
 
 namespace spt {
 
 namespace {
 
-const std::vector<std::string> kTypes = {"conductor", "dielectric", "plastic", "thin_sheet"};
-
 /// Anisotropic roughness is a conductor's ("roughness_u", "roughness_v"); on the other types
 /// those keys, and "anisotropy" anywhere, are errors that say so.
-void reject_anisotropy(const SpectrumParser& p, const JsonValue& def, const std::string& type, const std::string& what) {
-    if (const JsonValue* v = def.find("anisotropy"))
+void reject_anisotropy(const SpectrumParser& p, const ParamValue& def, const std::string& type, const std::string& what) {
+    if (const ParamValue* v = def.find("anisotropy"))
         p.fail(v->pos(), what + " anisotropy: anisotropic roughness is given by \"roughness_u\" and \"roughness_v\" "
                                 "(conductors only); expected those instead");
     if (type == "conductor") return;
     for (const char* key : {"roughness_u", "roughness_v"})
-        if (const JsonValue* v = def.find(key))
+        if (const ParamValue* v = def.find(key))
             p.fail(v->pos(), what + " " + key + ": anisotropic roughness is available for conductors only; expected "
                                         "one number \"roughness\" in [0, 1]");
 }
 
 /// "roughness_u", "roughness_v" (both or neither, not with "roughness"): α along the surface's
 /// dp/du and across it, each a number in [0.001, 1].
-void anisotropic_roughness(const SpectrumParser& p, const JsonValue& def, const std::string& what,
+void anisotropic_roughness(const SpectrumParser& p, const ParamValue& def, const std::string& what,
                            const FloatParameter& number, ConductorBsdf& c) {
-    const JsonValue *ru = def.find("roughness_u"), *rv = def.find("roughness_v");
+    const ParamValue *ru = def.find("roughness_u"), *rv = def.find("roughness_v");
     if (!ru && !rv) return;
     if (!ru || !rv)
         p.fail((ru ? ru : rv)->pos(), what + " has only one of \"roughness_u\" and \"roughness_v\"; expected both "
                                              "(α along the surface's u direction and across it)");
-    if (const JsonValue* r = def.find("roughness"))
+    if (const ParamValue* r = def.find("roughness"))
         p.fail(r->pos(), what + " has both \"roughness\" and \"roughness_u\"/\"roughness_v\"; expected one of them");
-    for (const JsonValue* v : {ru, rv})
+    for (const ParamValue* v : {ru, rv})
         if (!v->is_number())
             p.fail(v->pos(), what + " roughness_u and roughness_v must be numbers (they cannot be textures); expected "
                                     "a number in [0.001, 1]");
@@ -47,10 +47,10 @@ void anisotropic_roughness(const SpectrumParser& p, const JsonValue& def, const 
     c.ggx.alpha = std::max(c.aniso.alpha_x, c.aniso.alpha_y);  // rough: the flags
 }
 
-GgxDistribution roughness(const SpectrumParser& p, const JsonValue& def, const std::string& what,
+GgxDistribution roughness(const SpectrumParser& p, const ParamValue& def, const std::string& what,
                           const FloatParameter& number) {
     GgxDistribution g;
-    const JsonValue* v = def.find("roughness");
+    const ParamValue* v = def.find("roughness");
     if (!v) return g;
     if (v->is_array())
         p.fail(v->pos(), what + " roughness is an array; expected one number in [0, 1] (a conductor's anisotropic "
@@ -60,9 +60,9 @@ GgxDistribution roughness(const SpectrumParser& p, const JsonValue& def, const s
 }
 
 /// "film": {"thickness_nm": d, "ior": spectrum}; absent or d = 0 means no film.
-ThinFilm film(const SpectrumParser& p, const JsonValue& def, const std::string& what, const FloatParameter& number) {
+ThinFilm film(const SpectrumParser& p, const ParamValue& def, const std::string& what, const FloatParameter& number) {
     ThinFilm f;
-    const JsonValue* v = def.find("film");
+    const ParamValue* v = def.find("film");
     if (!v) return f;
     const std::string w = what + " film";
     p.object(*v, w);
@@ -72,12 +72,12 @@ ThinFilm film(const SpectrumParser& p, const JsonValue& def, const std::string& 
     return f;
 }
 
-ConductorBsdf conductor(const SpectrumParser& p, const JsonValue& def, const std::string& what,
+ConductorBsdf conductor(const SpectrumParser& p, const ParamValue& def, const std::string& what,
                         const FloatParameter& number) {
     p.check_keys(def, what, {"type", "metal", "eta", "k", "roughness", "roughness_u", "roughness_v", "film", "emission"});
     ConductorBsdf c;
-    const JsonValue* metal = def.find("metal");
-    const JsonValue *eta = def.find("eta"), *k = def.find("k");
+    const ParamValue* metal = def.find("metal");
+    const ParamValue *eta = def.find("eta"), *k = def.find("k");
     if (metal && (eta || k))
         p.fail(def.pos(), what + " has both \"metal\" and \"eta\"/\"k\"; expected one of them");
     if (metal) {
@@ -101,7 +101,7 @@ ConductorBsdf conductor(const SpectrumParser& p, const JsonValue& def, const std
     return c;
 }
 
-DielectricBsdf dielectric(const SpectrumParser& p, const JsonValue& def, const std::string& what,
+DielectricBsdf dielectric(const SpectrumParser& p, const ParamValue& def, const std::string& what,
                           const FloatParameter& number) {
     p.check_keys(def, what, {"type", "ior", "roughness", "film", "emission"});
     DielectricBsdf d;
@@ -111,7 +111,7 @@ DielectricBsdf dielectric(const SpectrumParser& p, const JsonValue& def, const s
     return d;
 }
 
-PlasticBsdf plastic(const SpectrumParser& p, const JsonValue& def, const std::string& what,
+PlasticBsdf plastic(const SpectrumParser& p, const ParamValue& def, const std::string& what,
                     const FloatParameter& number, const ReflectanceParameter& reflectance) {
     p.check_keys(def, what, {"type", "kd", "ior", "roughness", "emission"});
     // A textured kd: the lobe choice reads the mean of its envelope (make_plastic), the same
@@ -120,10 +120,10 @@ PlasticBsdf plastic(const SpectrumParser& p, const JsonValue& def, const std::st
     // The coat index: any spectrum form; one varying with λ gives each wavelength its own coat
     // (plastic.h), its albedo table built here over the index's range.
     Spectrum eta(SpectrumSource::constant(1.5), SpectralResolution{});
-    const JsonValue* ior = def.find("ior");
+    const ParamValue* ior = def.find("ior");
     if (ior) eta = p.spectrum(*ior, what + " ior", SpectrumUse::Index);
     // A textured roughness (an object {"texture": NAME}) reads the coat's albedo over α.
-    const JsonValue* r = def.find("roughness");
+    const ParamValue* r = def.find("roughness");
     const bool textured_roughness = r && r->is_object();
     if (!eta.is_constant()) {
         if (!(eta.min_value() >= 1.f && eta.max_value() <= 100.f))
@@ -137,13 +137,64 @@ PlasticBsdf plastic(const SpectrumParser& p, const JsonValue& def, const std::st
     return make_plastic(std::move(kd), eta, roughness(p, def, what, number).alpha, textured_roughness);
 }
 
-ThinSheetBsdf thin_sheet(const SpectrumParser& p, const JsonValue& def, const std::string& what,
+ThinSheetBsdf thin_sheet(const SpectrumParser& p, const ParamValue& def, const std::string& what,
                         const FloatParameter& number) {
     p.check_keys(def, what, {"type", "thickness_nm", "ior", "emission"});
     ThinSheetBsdf t;
     t.film.thickness_nm = number(p.required(def, "thickness_nm", what), "thickness_nm", what + " thickness_nm", 0, 1e5, true);
     t.film.eta = p.spectrum(p.required(def, "ior", what), what + " ior", SpectrumUse::Index);
     return t;
+}
+
+Bsdf diffuse(const MaterialParams& p) {
+    p.spectra.check_keys(p.def, p.what + " of type \"diffuse\"", {"type", "kd", "emission"});
+    DiffuseBsdf d;
+    if (const ParamValue* x = p.def.find("kd")) d.kd = p.reflectance(*x, "kd");
+    return d;
+}
+
+Bsdf lobes(const MaterialParams& p) {
+    const SpectrumParser& s = p.spectra;
+    s.check_keys(p.def, p.what, {"type", "kd", "ks", "kt", "ior", "emission"});
+    LobeMixBsdf b;
+    if (const ParamValue* x = p.def.find("kd")) b.kd = p.reflectance(*x, "kd");
+    if (const ParamValue* x = p.def.find("ks")) b.ks = p.reflectance(*x, "ks");
+    if (const ParamValue* x = p.def.find("kt")) b.kt = p.reflectance(*x, "kt");
+    if (const ParamValue* x = p.def.find("ior")) {
+        if (TextureParser::is_binding(*x)) s.fail(x->pos(), p.what + " ior cannot be bound to a texture; expected a spectrum");
+        b.eta = s.spectrum(*x, p.what + " ior", SpectrumUse::Index);
+    }
+    if (b.has_transmission() && !p.def.find("ior"))
+        s.fail(p.def.pos(), p.what + " has kt but no \"ior\"; expected an index of refraction");
+    // Only a diffuse lobe: the diffuse type, which behaves identically and is sampled inline
+    // in the path loop.
+    if (!b.has_mirror() && !b.has_transmission()) return DiffuseBsdf{std::move(b.kd)};
+    return b;
+}
+
+/// The microfacet types name their type in messages, and reject anisotropic keys before the
+/// key check, which would only call them unknown.
+template <const char* kName>
+std::string microfacet_what(const MaterialParams& p) {
+    const std::string w = p.what + " of type " + quote_text(kName);
+    reject_anisotropy(p.spectra, p.def, kName, w);
+    return w;
+}
+
+constexpr char kConductor[] = "conductor", kDielectric[] = "dielectric", kPlastic[] = "plastic",
+               kThinSheet[] = "thin_sheet";
+
+Bsdf create_conductor(const MaterialParams& p) {
+    return conductor(p.spectra, p.def, microfacet_what<kConductor>(p), p.number);
+}
+Bsdf create_dielectric(const MaterialParams& p) {
+    return dielectric(p.spectra, p.def, microfacet_what<kDielectric>(p), p.number);
+}
+Bsdf create_plastic(const MaterialParams& p) {
+    return plastic(p.spectra, p.def, microfacet_what<kPlastic>(p), p.number, p.reflectance);
+}
+Bsdf create_thin_sheet(const MaterialParams& p) {
+    return thin_sheet(p.spectra, p.def, microfacet_what<kThinSheet>(p), p.number);
 }
 
 /// Throws SceneError unless s stays in [lo, hi] from 360 to 830 nm (bins and exact source).
@@ -169,19 +220,22 @@ void check_film(const ThinFilm& f, const std::string& who) {
 
 }  // namespace
 
-bool is_microfacet_material_type(const std::string& type) {
-    return std::find(kTypes.begin(), kTypes.end(), type) != kTypes.end();
+const std::vector<MaterialType>& material_types() {
+    static const std::vector<MaterialType> types = {
+        {"diffuse", diffuse},
+        {"lobes", lobes},
+        {kConductor, create_conductor},
+        {kDielectric, create_dielectric},
+        {kPlastic, create_plastic},
+        {kThinSheet, create_thin_sheet},
+    };
+    return types;
 }
 
-Bsdf parse_microfacet_material(const SpectrumParser& spectra, const JsonValue& def, const std::string& type,
-                               const std::string& what, const FloatParameter& number,
-                               const ReflectanceParameter& reflectance) {
-    const std::string w = what + " of type " + quote_text(type);
-    reject_anisotropy(spectra, def, type, w);  // before the key check, which would only call it unknown
-    if (type == "conductor") return conductor(spectra, def, w, number);
-    if (type == "dielectric") return dielectric(spectra, def, w, number);
-    if (type == "plastic") return plastic(spectra, def, w, number, reflectance);
-    return thin_sheet(spectra, def, w, number);
+const MaterialType* find_material_type(const std::string& name) {
+    for (const MaterialType& t : material_types())
+        if (name == t.name) return &t;
+    return nullptr;
 }
 
 void validate_surface_model(const Bsdf& bsdf, const std::string& who) {

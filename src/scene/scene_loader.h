@@ -1,24 +1,32 @@
-// Scene files: JSON (scenes/README.md documents every key) → a finalized Scene. Every defect
-// is reported as one LocatedError "file:line:column: what is wrong; expected what".
+// Scene files → a finalized Scene: the file's format picks a reader (scene_readers()), which
+// produces a SceneDescription; scene/scene_builder.h builds the Scene from it. Every defect is
+// reported as one LocatedError "file:line:column: what is wrong; expected what". Defined in
+// scene_readers.cpp.
 #pragma once
-#include <functional>
 #include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
 
-#include "io/json.h"
 #include "scene/scene.h"
+#include "scene/scene_description.h"
 
 namespace spt {
 
-/// Reads a file that a scene refers to (a PLY mesh) by its path relative to the scene file.
-/// On success fills `contents` and `display_name` (the name used in messages); on failure
-/// returns false with `error` saying why.
-using RelativeFileReader = std::function<bool(const std::string& relative_path, std::string& contents,
-                                              std::string& display_name, std::string& error)>;
+/// A scene file format: its name in messages, the file name ending that selects it, and its
+/// reader (text, origin for messages, scene name → description; throws LocatedError).
+struct SceneReader {
+    const char* format;
+    const char* extension;
+    SceneDescription (*read)(std::string_view text, const std::string& origin, const std::string& scene_name);
+};
 
-/// Parses and checks a scene; `origin` names the text in messages. Throws LocatedError.
+/// Every format the program reads, one row each; the first is used for names without a
+/// listed ending.
+const std::vector<SceneReader>& scene_readers();
+
+/// Parses and checks a scene; `origin` names the text in messages and its ending picks the
+/// reader. Throws LocatedError.
 Scene load_scene_text(std::string_view text, const std::string& origin, const std::string& scene_name,
                       SpectralResolution resolution, const RelativeFileReader& read_relative);
 

@@ -10,7 +10,7 @@
 
 namespace spt {
 
-Spectrum SpectrumParser::spectrum(const JsonValue& v, const std::string& what, SpectrumUse use) const {
+Spectrum SpectrumParser::spectrum(const ParamValue& v, const std::string& what, SpectrumUse use) const {
     return spectrum_from(spectrum_source(v, what), v.pos(), what, use);
 }
 
@@ -32,7 +32,7 @@ Spectrum SpectrumParser::spectrum_from(const SpectrumSource& source, TextPos pos
     return Spectrum(source, m_resolution);
 }
 
-SpectrumSource SpectrumParser::spectrum_source(const JsonValue& v, const std::string& what) const {
+SpectrumSource SpectrumParser::spectrum_source(const ParamValue& v, const std::string& what) const {
     if (v.is_number()) return SpectrumSource::constant(v.as_number());
     if (v.is_array()) return rgb(v, what, 1.0);
     if (!v.is_object())
@@ -64,12 +64,12 @@ SpectrumSource SpectrumParser::spectrum_source(const JsonValue& v, const std::st
     }
     if (type == "table") {
         check_keys(v, w, {"type", "points", "scale"});
-        const JsonValue& pts = required(v, "points", w);
+        const ParamValue& pts = required(v, "points", w);
         if (!pts.is_array() || pts.items().empty())
             fail(pts.pos(), w + " points is not a non-empty array; expected [[lambda_nm, value], ...]");
         std::vector<std::pair<double, double>> table;
         const double scale = opt("scale", 1);
-        for (const JsonValue& p : pts.items()) {
+        for (const ParamValue& p : pts.items()) {
             const std::vector<double> lv = numbers(p, w + " point", 2);
             if (!table.empty() && !(lv[0] > table.back().first))
                 fail(p.pos(), w + " wavelengths do not increase; expected strictly increasing wavelengths");
@@ -93,7 +93,7 @@ SpectrumSource SpectrumParser::spectrum_source(const JsonValue& v, const std::st
     }
     if (type == "illuminant") {
         check_keys(v, w, {"type", "name", "scale"});
-        const JsonValue& n = required(v, "name", w);
+        const ParamValue& n = required(v, "name", w);
         const std::string& name = string(n, w + " name");
         const char* file = name == "D65" ? "cie_d65.csv" : name == "A" ? "cie_a.csv" : nullptr;
         if (!file)
@@ -104,7 +104,7 @@ SpectrumSource SpectrumParser::spectrum_source(const JsonValue& v, const std::st
     }
     if (type == "glass") {
         check_keys(v, w, {"type", "name"});
-        const JsonValue& n = required(v, "name", w);
+        const ParamValue& n = required(v, "name", w);
         const std::string& name = string(n, w + " name");
         const std::optional<GlassInfo> glass = find_glass(name);
         if (!glass)
@@ -114,7 +114,7 @@ SpectrumSource SpectrumParser::spectrum_source(const JsonValue& v, const std::st
     }
     if (type == "colorchecker") {
         check_keys(v, w, {"type", "patch", "scale"});
-        const JsonValue& n = required(v, "patch", w);
+        const ParamValue& n = required(v, "patch", w);
         const std::string& patch = string(n, w + " patch");
         const SpectralTable& t = embedded_spectral_table("colorchecker.csv");
         const std::vector<std::string> patches(t.column_names.begin() + 1, t.column_names.end());
@@ -123,14 +123,14 @@ SpectrumSource SpectrumParser::spectrum_source(const JsonValue& v, const std::st
                               " Expected one of: " + join(patches));
         return table_column(t, patch, opt("scale", 1));
     }
-    const JsonValue& t = *v.find("type");
+    const ParamValue& t = *v.find("type");
     const std::vector<std::string> types = {"constant", "gaussian", "sigmoid", "blackbody", "table", "cauchy",
                                             "sellmeier", "glass", "rgb", "illuminant", "colorchecker"};
     fail(t.pos(), "unknown spectrum type " + quote_text(type) + "." + suggestion(type, types) +
                       " Expected one of: " + join(types));
 }
 
-SpectrumSource SpectrumParser::rgb(const JsonValue& v, const std::string& what, double scale) const {
+SpectrumSource SpectrumParser::rgb(const ParamValue& v, const std::string& what, double scale) const {
     const std::vector<double> c = numbers(v, what + " rgb", 3);
     for (double x : c)
         if (x < 0 || x > 1)

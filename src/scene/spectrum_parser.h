@@ -3,7 +3,7 @@
 #pragma once
 #include <string>
 
-#include "scene/json_checker.h"
+#include "scene/param_checker.h"
 #include "spectral/spectral_table.h"
 #include "spectral/spectrum.h"
 
@@ -18,14 +18,14 @@ enum class SpectrumUse {
     Extinction,      ///< imaginary part k of a complex index, in [0, 100]
 };
 
-class SpectrumParser : public JsonChecker {
+class SpectrumParser : public ParamChecker {
 public:
     SpectrumParser(const std::string& origin, SpectralResolution resolution)
-        : JsonChecker(origin), m_resolution(resolution) {}
+        : ParamChecker(origin), m_resolution(resolution) {}
 
     /// The spectrum described by `v`, checked at every nanometre from 360 to 830 nm for its
     /// use; `what` names it in messages. Throws LocatedError.
-    Spectrum spectrum(const JsonValue& v, const std::string& what, SpectrumUse use) const;
+    Spectrum spectrum(const ParamValue& v, const std::string& what, SpectrumUse use) const;
     /// A spectrum from a source made elsewhere (a named table), checked as spectrum() does;
     /// errors point at `pos`.
     Spectrum spectrum_from(const SpectrumSource& source, TextPos pos, const std::string& what, SpectrumUse use) const;
@@ -33,8 +33,8 @@ public:
 private:
     SpectralResolution m_resolution;
 
-    SpectrumSource spectrum_source(const JsonValue& v, const std::string& what) const;
-    SpectrumSource rgb(const JsonValue& v, const std::string& what, double scale) const;
+    SpectrumSource spectrum_source(const ParamValue& v, const std::string& what) const;
+    SpectrumSource rgb(const ParamValue& v, const std::string& what, double scale) const;
     static SpectrumSource table_column(const SpectralTable& t, const std::string& column, double scale);
 };
 

@@ -29,7 +29,7 @@ const char* use_name(TextureUse use) {
 
 }  // namespace
 
-void TextureParser::definitions(const JsonValue& v) {
+void TextureParser::definitions(const ParamValue& v) {
     object(v, "textures");
     for (const auto& [name, def] : v.members()) object(def, "texture " + quote_text(name));
     m_definitions = &v;
@@ -40,12 +40,12 @@ int TextureParser::bins(TextureUse use) const {
     return m_resolution.bins == SpectralResolution::kExact ? kExactTextureBins : m_resolution.bins;
 }
 
-int TextureParser::bind(const JsonValue& v, const std::string& what, TextureUse use) {
+int TextureParser::bind(const ParamValue& v, const std::string& what, TextureUse use) {
     if (use == TextureUse::emission) check_keys(v, what, {"texture", "scale"});
     else check_keys(v, what, {"texture"});
-    const JsonValue& n = required(v, "texture", what);
+    const ParamValue& n = required(v, "texture", what);
     const std::string& name = string(n, what + " texture");
-    const JsonValue* def = m_definitions ? m_definitions->find(name) : nullptr;
+    const ParamValue* def = m_definitions ? m_definitions->find(name) : nullptr;
     if (!def) {
         std::vector<std::string> known;
         if (m_definitions)
@@ -64,7 +64,7 @@ int TextureParser::bind(const JsonValue& v, const std::string& what, TextureUse 
     return index;
 }
 
-Texture TextureParser::build(const std::string& name, const JsonValue& def, TextureUse use, double scale) const {
+Texture TextureParser::build(const std::string& name, const ParamValue& def, TextureUse use, double scale) const {
     const std::string what = "texture " + quote_text(name);
     Texture t;
     t.name = name;
@@ -80,13 +80,13 @@ Texture TextureParser::build(const std::string& name, const JsonValue& def, Text
             fail(def.key_pos(i), "unknown key " + quote_text(key) + " in " + what + " of type " + quote_text(type) +
                                      "." + suggestion(key, names) + " Expected one of: " + join(names));
         }
-        if (const JsonValue* s = def.find("uv_scale")) {
+        if (const ParamValue* s = def.find("uv_scale")) {
             const auto c = numbers(*s, what + " uv_scale", 2);
             for (double x : c)
                 if (!(std::fabs(x) <= 1e6)) fail(s->pos(), what + " uv_scale is out of range; expected magnitudes up to 1e6");
             t.transform.scale_u = static_cast<float>(c[0]), t.transform.scale_v = static_cast<float>(c[1]);
         }
-        if (const JsonValue* o = def.find("uv_offset")) {
+        if (const ParamValue* o = def.find("uv_offset")) {
             const auto c = numbers(*o, what + " uv_offset", 2);
             for (double x : c)
                 if (!(std::fabs(x) <= 1e6)) fail(o->pos(), what + " uv_offset is out of range; expected magnitudes up to 1e6");
@@ -101,7 +101,7 @@ Texture TextureParser::build(const std::string& name, const JsonValue& def, Text
     } else if (type == "gradient") {
         common({"start", "end", "axis"});
         GradientTexture g;
-        if (const JsonValue* a = def.find("axis")) {
+        if (const ParamValue* a = def.find("axis")) {
             const std::string& axis = string(*a, what + " axis");
             if (axis != "u" && axis != "v") fail(a->pos(), what + " axis is " + quote_text(axis) + "; expected \"u\" or \"v\"");
             g.along_v = axis == "v";
@@ -120,7 +120,7 @@ Texture TextureParser::build(const std::string& name, const JsonValue& def, Text
     return t;
 }
 
-void TextureParser::add_value(Texture& t, const JsonValue& v, const std::string& what, TextureUse use,
+void TextureParser::add_value(Texture& t, const ParamValue& v, const std::string& what, TextureUse use,
                               double scale) const {
     if (use == TextureUse::number) {
         t.values.push_back(static_cast<float>(number_in(v, what, -1e30, 1e30)));
@@ -130,9 +130,9 @@ void TextureParser::add_value(Texture& t, const JsonValue& v, const std::string&
     for (float b : project_onto_bins(s.source(), t.bins)) t.values.push_back(static_cast<float>(b * scale));
 }
 
-void TextureParser::image(Texture& t, const JsonValue& def, const std::string& what, TextureUse use,
+void TextureParser::image(Texture& t, const ParamValue& def, const std::string& what, TextureUse use,
                           double scale) const {
-    const JsonValue& fv = required(def, "file", what);
+    const ParamValue& fv = required(def, "file", what);
     const std::string& file = string(fv, what + " file");
     std::string contents, display, error;
     if (file.empty() || !m_read_relative(file, contents, display, error))
@@ -146,7 +146,7 @@ void TextureParser::image(Texture& t, const JsonValue& def, const std::string& w
     }
     ImageTexture it;
     it.width = img.width, it.height = img.height;
-    if (const JsonValue* w = def.find("wrap")) {
+    if (const ParamValue* w = def.find("wrap")) {
         const std::string& mode = string(*w, what + " wrap");
         const std::vector<std::string> modes = {"repeat", "clamp", "mirror"};
         if (mode == "repeat") it.wrap = WrapMode::repeat;
@@ -154,14 +154,14 @@ void TextureParser::image(Texture& t, const JsonValue& def, const std::string& w
         else if (mode == "mirror") it.wrap = WrapMode::mirror;
         else fail(w->pos(), "unknown wrap mode " + quote_text(mode) + "." + suggestion(mode, modes) + " Expected one of: " + join(modes));
     }
-    if (const JsonValue* f = def.find("filter")) {
+    if (const ParamValue* f = def.find("filter")) {
         const std::string& filter = string(*f, what + " filter");
         if (filter != "bilinear" && filter != "nearest")
             fail(f->pos(), "unknown filter " + quote_text(filter) + "; expected \"bilinear\" or \"nearest\"");
         it.bilinear = filter == "bilinear";
     }
     bool srgb = img.integer_codes;
-    if (const JsonValue* e = def.find("encoding")) {
+    if (const ParamValue* e = def.find("encoding")) {
         const std::string& enc = string(*e, what + " encoding");
         if (enc != "srgb" && enc != "linear") fail(e->pos(), "unknown encoding " + quote_text(enc) + "; expected \"srgb\" or \"linear\"");
         if (enc == "srgb" && !img.integer_codes)

@@ -8,31 +8,31 @@
 #include <string>
 #include <tuple>
 
-#include "scene/json_checker.h"
+#include "scene/param_checker.h"
 #include "scene/scene.h"
-#include "scene/scene_loader.h"
+#include "scene/scene_description.h"
 #include "scene/spectrum_parser.h"
 
 namespace spt {
 
 enum class TextureUse { reflectance, emission, number };
 
-class TextureParser : public JsonChecker {
+class TextureParser : public ParamChecker {
 public:
     TextureParser(const std::string& origin, SpectralResolution resolution, const SpectrumParser& spectra,
                   const RelativeFileReader& read_relative, Scene& scene)
-        : JsonChecker(origin), m_resolution(resolution), m_spectra(spectra), m_read_relative(read_relative),
+        : ParamChecker(origin), m_resolution(resolution), m_spectra(spectra), m_read_relative(read_relative),
           m_scene(scene) {}
 
     /// Reads the top-level "textures" object (checked when a value names a texture).
-    void definitions(const JsonValue& v);
+    void definitions(const ParamValue& v);
 
     /// True when `v` names a texture ({"texture": ...}) rather than giving a value.
-    static bool is_binding(const JsonValue& v) { return v.is_object() && v.find("texture"); }
+    static bool is_binding(const ParamValue& v) { return v.is_object() && v.find("texture"); }
 
     /// The index in Scene::textures of the texture `v` names, built for `use`; `what` names
     /// the value in messages. Throws LocatedError.
-    int bind(const JsonValue& v, const std::string& what, TextureUse use);
+    int bind(const ParamValue& v, const std::string& what, TextureUse use);
 
     /// Each bin's largest value over the texture's entries, as a spectrum: what a textured
     /// parameter holds at load time (see Material::textures).
@@ -48,16 +48,16 @@ private:
     const SpectrumParser& m_spectra;
     const RelativeFileReader& m_read_relative;
     Scene& m_scene;
-    const JsonValue* m_definitions = nullptr;
+    const ParamValue* m_definitions = nullptr;
     std::map<std::tuple<std::string, TextureUse, double>, int> m_built;
 
     int bins(TextureUse use) const;
     /// A spectrum whose bins are `bins` (any count; the source interpolates the bin centres).
     Spectrum spectrum_of_bins(std::vector<float> bins) const;
-    Texture build(const std::string& name, const JsonValue& def, TextureUse use, double scale) const;
+    Texture build(const std::string& name, const ParamValue& def, TextureUse use, double scale) const;
     /// The value table entry of a procedural texture's value `v` (a spectrum or a number).
-    void add_value(Texture& t, const JsonValue& v, const std::string& what, TextureUse use, double scale) const;
-    void image(Texture& t, const JsonValue& def, const std::string& what, TextureUse use, double scale) const;
+    void add_value(Texture& t, const ParamValue& v, const std::string& what, TextureUse use, double scale) const;
+    void image(Texture& t, const ParamValue& def, const std::string& what, TextureUse use, double scale) const;
 };
 
 }  // namespace spt

@@ -1,5 +1,5 @@
-// Message helpers of the JSON checker: lists, quoting, numbers.
-#include "scene/json_checker.h"
+// Message helpers of the parameter checker: lists, quoting, numbers.
+#include "scene/param_checker.h"
 
 #include <algorithm>
 #include <sstream>

@@ -1,23 +1,20 @@
-// JSON scene files → Scene. Each value is checked where it is read, so messages point at the
-// offending value: unknown keys (with a suggestion), wrong types, out-of-range numbers,
-// unknown names, unreadable meshes, and materials that reflect more than they receive.
-#include "scene/scene_loader.h"
+// SceneDescription → Scene, whatever file format the description came from. Each value is
+// checked where it is read, so messages point at the offending value: unknown keys (with a
+// suggestion), wrong types, out-of-range numbers, unknown names, unreadable meshes, and
+// materials that reflect more than they receive.
+#include "scene/scene_builder.h"
 
 #include <algorithm>
 #include <cmath>
-#include <filesystem>
-#include <fstream>
 #include <initializer_list>
-#include <iterator>
 #include <map>
 #include <sstream>
 #include <stdexcept>
 #include <cstring>
 
-#include "io/embedded_files.h"
 #include "geometry/mesh_closure.h"
 #include "io/ply_reader.h"
-#include "scene/json_checker.h"
+#include "scene/param_checker.h"
 #include "scene/material_types.h"
 #include "scene/medium_parser.h"
 #include "scene/spectrum_parser.h"
@@ -29,35 +26,35 @@ namespace {
 
 /// Reads the scene's sections in a fixed order (camera, image, background, materials,
 /// shapes, lights), so materials may be referred to before they appear in the file.
-class Loader : public JsonChecker {
+class Builder : public ParamChecker {
 public:
-    Loader(const std::string& origin, SpectralResolution resolution, const RelativeFileReader& read_relative)
-        : JsonChecker(origin), m_spectra(origin, resolution), m_read_relative(read_relative),
+    Builder(const std::string& origin, SpectralResolution resolution, const RelativeFileReader& read_relative)
+        : ParamChecker(origin), m_spectra(origin, resolution), m_read_relative(read_relative),
           m_textures(origin, resolution, m_spectra, read_relative, m_scene) {}
 
-    Scene load(const JsonValue& root, const std::string& name) {
+    Scene load(const ParamValue& root, const std::string& name) {
         m_scene.name = name;
-        const JsonValue& top = object(root, "the scene");
+        const ParamValue& top = object(root, "the scene");
         check_keys(top, "the scene",
                    {"description", "summary", "camera", "image", "integrator", "background", "textures", "materials", "media", "medium",
                     "shapes", "lights"});
-        if (const JsonValue* d = top.find("description")) m_scene.summary = first_sentence(string(*d, "description"));
-        if (const JsonValue* s = top.find("summary")) m_scene.summary = one_line(*s, "summary");
+        if (const ParamValue* d = top.find("description")) m_scene.summary = first_sentence(string(*d, "description"));
+        if (const ParamValue* s = top.find("summary")) m_scene.summary = one_line(*s, "summary");
         camera(required(top, "camera", "the scene"));
-        if (const JsonValue* image = top.find("image")) image_settings(*image);
-        if (const JsonValue* integrator = top.find("integrator")) integrator_preset(*integrator);
-        if (const JsonValue* bg = top.find("background"))
+        if (const ParamValue* image = top.find("image")) image_settings(*image);
+        if (const ParamValue* integrator = top.find("integrator")) integrator_preset(*integrator);
+        if (const ParamValue* bg = top.find("background"))
             m_scene.set_background(spectrum(*bg, "background", SpectrumUse::Emission));
-        if (const JsonValue* tex = top.find("textures")) m_textures.definitions(*tex);
-        if (const JsonValue* mats = top.find("materials")) materials(*mats);
-        if (const JsonValue* media = top.find("media")) media_section(*media);
-        if (const JsonValue* m = top.find("medium")) m_scene.camera_medium = medium_ref(*m, "medium");
-        const JsonValue& shape_list = required(top, "shapes", "the scene");
+        if (const ParamValue* tex = top.find("textures")) m_textures.definitions(*tex);
+        if (const ParamValue* mats = top.find("materials")) materials(*mats);
+        if (const ParamValue* media = top.find("media")) media_section(*media);
+        if (const ParamValue* m = top.find("medium")) m_scene.camera_medium = medium_ref(*m, "medium");
+        const ParamValue& shape_list = required(top, "shapes", "the scene");
         if (!shape_list.is_array()) wrong_type(shape_list, "shapes", "an array of shapes");
-        for (const JsonValue& s : shape_list.items()) shape(s);
-        if (const JsonValue* lights = top.find("lights")) {
+        for (const ParamValue& s : shape_list.items()) shape(s);
+        if (const ParamValue* lights = top.find("lights")) {
             if (!lights->is_array()) wrong_type(*lights, "lights", "an array of lights");
-            for (const JsonValue& l : lights->items()) light(l);
+            for (const ParamValue& l : lights->items()) light(l);
         }
         try {
             m_scene.finalize();
@@ -78,13 +75,13 @@ private:
     /// The texture of each material's emission, or −1.
     std::vector<int> m_material_emission_texture;
 
-    Spectrum spectrum(const JsonValue& v, const std::string& what, SpectrumUse use) const {
+    Spectrum spectrum(const ParamValue& v, const std::string& what, SpectrumUse use) const {
         return m_spectra.spectrum(v, what, use);
     }
 
     // ---------------------------- Camera and image ----------------------------
 
-    void camera(const JsonValue& v) {
+    void camera(const ParamValue& v) {
         object(v, "camera");
         check_keys(v, "camera", {"position", "look_at", "up", "vfov_degrees", "aperture_radius", "f_number",
                                  "focal_length", "focus_distance", "focus_point", "blades", "rotation_degrees",
@@ -92,15 +89,15 @@ private:
         CameraSpec& c = m_scene.camera;
         c.position = point(required(v, "position", "camera"), "camera position");
         c.look_at = point(required(v, "look_at", "camera"), "camera look_at");
-        if (const JsonValue* up = v.find("up")) c.up = direction(*up, "camera up");
-        if (const JsonValue* fov = v.find("vfov_degrees"))
+        if (const ParamValue* up = v.find("up")) c.up = direction(*up, "camera up");
+        if (const ParamValue* fov = v.find("vfov_degrees"))
             c.vfov_degrees = static_cast<float>(number_in(*fov, "camera vfov_degrees", 0, 179.9, true));
         const Vec3 forward = c.look_at - c.position;
         if (!(length(forward) > 0.f)) fail(v.pos(), "camera look_at equals its position; expected a point to look at");
         if (!(length(cross(normalize(forward), normalize(c.up))) > 1e-6f))
             fail(v.pos(), "camera up is parallel to the viewing direction; expected a different up vector");
         thin_lens(v);
-        if (const JsonValue* shutter = v.find("shutter")) {
+        if (const ParamValue* shutter = v.find("shutter")) {
             const std::vector<double> t = numbers(*shutter, "camera shutter", 2);
             for (double x : t)
                 if (!(std::fabs(x) <= 1e9)) fail(shutter->pos(), "camera shutter time " + number_text(x) + " is out of range; expected times within ±1e9");
@@ -114,16 +111,16 @@ private:
     /// [x, y, z], "degrees": d}}, ...], "pivot": [x, y, z]}: at least two keyframes in
     /// increasing time; translate and rotate default to none; the pivot (the centre of the
     /// rotations) defaults to `default_pivot`.
-    RigidMotion motion(const JsonValue& v, const std::string& what, const Vec3& default_pivot) const {
+    RigidMotion motion(const ParamValue& v, const std::string& what, const Vec3& default_pivot) const {
         const std::string who = what + " motion";
         object(v, who);
         check_keys(v, who, {"keyframes", "pivot"});
         RigidMotion m;
         m.pivot = v.find("pivot") ? point(*v.find("pivot"), who + " pivot") : default_pivot;
-        const JsonValue& keys = required(v, "keyframes", who);
+        const ParamValue& keys = required(v, "keyframes", who);
         if (!keys.is_array() || keys.items().size() < 2)
             fail(keys.pos(), who + " keyframes is not an array of at least 2 keyframes; expected [{\"time\": 0, ...}, {\"time\": 1, ...}]");
-        for (const JsonValue& k : keys.items()) {
+        for (const ParamValue& k : keys.items()) {
             const std::string key_what = who + " keyframe";
             object(k, key_what);
             check_keys(k, key_what, {"time", "translate", "rotate"});
@@ -132,8 +129,8 @@ private:
             if (!m.keys.empty() && !(key.time > m.keys.back().time))
                 fail(k.find("time")->pos(), key_what + " time " + number_text(key.time) + " does not follow " +
                                                 number_text(m.keys.back().time) + "; expected increasing times");
-            if (const JsonValue* t = k.find("translate")) key.translation = point(*t, key_what + " translate");
-            if (const JsonValue* r = k.find("rotate")) {
+            if (const ParamValue* t = k.find("translate")) key.translation = point(*t, key_what + " translate");
+            if (const ParamValue* r = k.find("rotate")) {
                 const std::string rot = key_what + " rotate";
                 object(*r, rot);
                 check_keys(*r, rot, {"axis", "degrees"});
@@ -147,11 +144,11 @@ private:
     }
 
     /// The camera's aperture and focus (depth of field); none of the keys: the pinhole.
-    void thin_lens(const JsonValue& v) {
+    void thin_lens(const ParamValue& v) {
         CameraSpec& c = m_scene.camera;
-        const JsonValue* radius = v.find("aperture_radius");
-        const JsonValue* f_number = v.find("f_number");
-        const JsonValue* focal_length = v.find("focal_length");
+        const ParamValue* radius = v.find("aperture_radius");
+        const ParamValue* f_number = v.find("f_number");
+        const ParamValue* focal_length = v.find("focal_length");
         if (radius && f_number) fail(f_number->pos(), "camera has both aperture_radius and f_number; expected one of them");
         if (f_number && !focal_length)
             fail(f_number->pos(), "camera f_number needs \"focal_length\" (scene units); expected both");
@@ -163,12 +160,12 @@ private:
             const double f = number_in(*focal_length, "camera focal_length", 0, 1e6, true);
             c.aperture.radius = static_cast<float>(f / (2 * n));  // N = focal length / diameter
         }
-        const JsonValue* distance = v.find("focus_distance");
-        const JsonValue* point_key = v.find("focus_point");
-        const JsonValue* blades = v.find("blades");
-        const JsonValue* rotation = v.find("rotation_degrees");
+        const ParamValue* distance = v.find("focus_distance");
+        const ParamValue* point_key = v.find("focus_point");
+        const ParamValue* blades = v.find("blades");
+        const ParamValue* rotation = v.find("rotation_degrees");
         if (!radius && !f_number) {
-            for (const JsonValue* key : {distance, point_key, blades, rotation})
+            for (const ParamValue* key : {distance, point_key, blades, rotation})
                 if (key) fail(key->pos(), "camera focus and blades need an aperture; expected \"aperture_radius\" or \"f_number\"");
             return;
         }
@@ -186,12 +183,12 @@ private:
         if (rotation) c.aperture.rotation_degrees = static_cast<float>(number_in(*rotation, "camera rotation_degrees", -360, 360));
     }
 
-    void image_settings(const JsonValue& v) {
+    void image_settings(const ParamValue& v) {
         object(v, "image");
         check_keys(v, "image", {"width", "height", "spp"});
-        if (const JsonValue* w = v.find("width")) m_scene.width = integer_in(*w, "image width", 1, 65536);
-        if (const JsonValue* h = v.find("height")) m_scene.height = integer_in(*h, "image height", 1, 65536);
-        if (const JsonValue* s = v.find("spp")) m_scene.spp = integer_in(*s, "image spp", 1, 1000000);
+        if (const ParamValue* w = v.find("width")) m_scene.width = integer_in(*w, "image width", 1, 65536);
+        if (const ParamValue* h = v.find("height")) m_scene.height = integer_in(*h, "image height", 1, 65536);
+        if (const ParamValue* s = v.find("spp")) m_scene.spp = integer_in(*s, "image spp", 1, 1000000);
         if (double(m_scene.width) * m_scene.height > double(1 << 28))
             fail(v.pos(), "image of " + std::to_string(m_scene.width) + "x" + std::to_string(m_scene.height) +
                               " pixels is too large; expected at most 268435456 pixels");
@@ -203,7 +200,7 @@ private:
         return end == std::string::npos ? text : text.substr(0, end + 1);
     }
 
-    std::string one_line(const JsonValue& v, const std::string& what) const {
+    std::string one_line(const ParamValue& v, const std::string& what) const {
         const std::string& text = string(v, what);
         if (text.find_first_of("\n\r") != std::string::npos)
             fail(v.pos(), what + " has a line break; expected one line");
@@ -212,9 +209,9 @@ private:
 
     /// "integrator": "vcm", or {"type": "vcm", "max_depth": D, "merge_radius": R} (and
     /// "light_sampling" for path): the settings a scene renders best with.
-    void integrator_preset(const JsonValue& v) {
+    void integrator_preset(const ParamValue& v) {
         IntegratorPreset& p = m_scene.integrator;
-        const JsonValue* type = &v;
+        const ParamValue* type = &v;
         if (!v.is_object() && !v.is_string())
             wrong_type(v, "integrator", "a name (path, bdpt or vcm) or an object with \"type\"");
         if (v.is_object()) {
@@ -228,8 +225,8 @@ private:
             fail(type->pos(), "unknown integrator " + quote_text(name) + "." + suggestion(name, names) +
                                   " Expected one of: " + join(names));
         if (!v.is_object()) return;
-        if (const JsonValue* d = v.find("max_depth")) p.max_depth = integer_in(*d, "integrator max_depth", 0, 100000);
-        if (const JsonValue* ls = v.find("light_sampling")) {
+        if (const ParamValue* d = v.find("max_depth")) p.max_depth = integer_in(*d, "integrator max_depth", 0, 100000);
+        if (const ParamValue* ls = v.find("light_sampling")) {
             if (*p.kind != IntegratorKind::path)
                 fail(ls->pos(), "integrator light_sampling applies to the path integrator only; expected no "
                                 "light_sampling with " + name);
@@ -239,7 +236,7 @@ private:
                 fail(ls->pos(), "unknown light_sampling " + quote_text(mode) + "." +
                                     suggestion(mode, light_sampling_names()) + " Expected one of: " + join(light_sampling_names()));
         }
-        if (const JsonValue* r = v.find("merge_radius")) {
+        if (const ParamValue* r = v.find("merge_radius")) {
             if (*p.kind != IntegratorKind::vcm)
                 fail(r->pos(), "integrator merge_radius applies to vcm only; expected no merge_radius with " + name);
             p.merge_radius = number_in(*r, "integrator merge_radius", 1e-12, 1e12, true);
@@ -263,7 +260,7 @@ private:
 
     // ---------------------------- Materials ----------------------------
 
-    void materials(const JsonValue& v) {
+    void materials(const ParamValue& v) {
         object(v, "materials");
         for (const auto& [name, def] : v.members()) {
             const std::string what = "material " + quote_text(name);
@@ -272,55 +269,35 @@ private:
             m.name = name;
             // Parameters given as {"texture": NAME}: the parameter's key and the texture.
             std::vector<std::pair<std::string, int>> bound;
-            auto reflectance = [&](const JsonValue& x, const char* key) {
+            auto reflectance = [&](const ParamValue& x, const char* key) {
                 if (!TextureParser::is_binding(x)) return spectrum(x, what + " " + key, SpectrumUse::Reflectance);
                 const int t = m_textures.bind(x, what + " " + key, TextureUse::reflectance);
                 bound.emplace_back(key, t);
                 return m_textures.envelope(t);
             };
             std::string type = "lobes";
-            if (const JsonValue* t = def.find("type")) type = string(*t, what + " type");
-            if (type == "diffuse") {
-                check_keys(def, what + " of type \"diffuse\"", {"type", "kd", "emission"});
-                DiffuseBsdf d;
-                if (const JsonValue* x = def.find("kd")) d.kd = reflectance(*x, "kd");
-                m.bsdf = std::move(d);
-            } else if (type == "lobes") {
-                check_keys(def, what, {"type", "kd", "ks", "kt", "ior", "emission"});
-                LobeMixBsdf b;
-                if (const JsonValue* x = def.find("kd")) b.kd = reflectance(*x, "kd");
-                if (const JsonValue* x = def.find("ks")) b.ks = reflectance(*x, "ks");
-                if (const JsonValue* x = def.find("kt")) b.kt = reflectance(*x, "kt");
-                if (const JsonValue* x = def.find("ior")) {
-                    if (TextureParser::is_binding(*x))
-                        fail(x->pos(), what + " ior cannot be bound to a texture; expected a spectrum");
-                    b.eta = spectrum(*x, what + " ior", SpectrumUse::Index);
-                }
-                if (b.has_transmission() && !def.find("ior"))
-                    fail(def.pos(), what + " has kt but no \"ior\"; expected an index of refraction");
-                // Only a diffuse lobe: the diffuse type, which behaves identically and is
-                // sampled inline in the path loop.
-                if (!b.has_mirror() && !b.has_transmission()) m.bsdf = DiffuseBsdf{std::move(b.kd)};
-                else m.bsdf = std::move(b);
-            } else if (is_microfacet_material_type(type)) {
-                m.bsdf = parse_microfacet_material(m_spectra, def, type, what, float_parameter(bound), reflectance);
-            } else {
-                const std::vector<std::string> types = {"diffuse", "lobes", "conductor", "dielectric", "plastic",
-                                                        "thin_sheet"};
+            if (const ParamValue* t = def.find("type")) type = string(*t, what + " type");
+            const MaterialType* material_type = find_material_type(type);
+            if (!material_type) {
+                std::vector<std::string> types;
+                for (const MaterialType& t : material_types()) types.emplace_back(t.name);
                 fail(def.find("type")->pos(), "unknown material type " + quote_text(type) + "." +
                                                   suggestion(type, types) + " Expected one of: " + join(types));
             }
+            const FloatParameter number = float_parameter(bound);
+            const ReflectanceParameter reflectance_parameter = reflectance;
+            m.bsdf = material_type->create({m_spectra, def, what, number, reflectance_parameter});
             for (const auto& [key, texture] : bound) {
                 const TexturableParameter* p = find_texturable(m.bsdf.index(), key);
                 if (!p) {
-                    const JsonValue* x = def.find(key);
+                    const ParamValue* x = def.find(key);
                     fail(x ? x->pos() : def.pos(), what + " " + key + " cannot be bound to a texture; expected a spectrum");
                 }
                 m.textures.push_back({p, texture});
             }
             Spectrum emission;
             int emission_texture = -1;
-            if (const JsonValue* x = def.find("emission")) emission = emission_value(*x, what, emission_texture);
+            if (const ParamValue* x = def.find("emission")) emission = emission_value(*x, what, emission_texture);
             add_material(std::move(m), def.pos());
             m_material_emission.push_back(std::move(emission));
             m_material_emission_texture.push_back(emission_texture);
@@ -332,7 +309,7 @@ private:
     /// texture whose every value lies in the range (recorded in `bound`, its largest value
     /// returned: the envelope).
     FloatParameter float_parameter(std::vector<std::pair<std::string, int>>& bound) {
-        return [this, &bound](const JsonValue& v, const std::string& key, const std::string& what, double lo,
+        return [this, &bound](const ParamValue& v, const std::string& key, const std::string& what, double lo,
                               double hi, bool lo_open) -> float {
             if (!TextureParser::is_binding(v)) return static_cast<float>(number_in(v, what, lo, hi, lo_open));
             const int t = m_textures.bind(v, what, TextureUse::number);
@@ -351,7 +328,7 @@ private:
     /// An emission spectrum, or {"texture": NAME, "scale": S}: then `texture` is set and the
     /// result is the texture's mean over its (u, v) square (the light's power for light
     /// selection: Scene::light_textures).
-    Spectrum emission_value(const JsonValue& x, const std::string& what, int& texture) {
+    Spectrum emission_value(const ParamValue& x, const std::string& what, int& texture) {
         if (!TextureParser::is_binding(x)) return spectrum(x, what + " emission", SpectrumUse::Emission);
         texture = m_textures.bind(x, what + " emission", TextureUse::emission);
         return m_textures.mean(texture);
@@ -386,16 +363,16 @@ private:
 
     /// The surface of a shape of the given kind: "material": NAME (emitting if the material
     /// has "emission"), or "emission": SPECTRUM (a black emitter).
-    Surface shape_surface(const JsonValue& v, const std::string& what, ShapeKind kind) {
+    Surface shape_surface(const ParamValue& v, const std::string& what, ShapeKind kind) {
         return shape_surface(v, what, [&](const Spectrum& le) { return m_scene.add_emitter(kind, le); });
     }
 
     /// shape_surface with the shape's own way of making its emitter (a quad's light knows
     /// its corners).
     template <typename MakeEmitter>
-    Surface shape_surface(const JsonValue& v, const std::string& what, const MakeEmitter& make_emitter) {
-        const JsonValue* name = v.find("material");
-        const JsonValue* emission = v.find("emission");
+    Surface shape_surface(const ParamValue& v, const std::string& what, const MakeEmitter& make_emitter) {
+        const ParamValue* name = v.find("material");
+        const ParamValue* emission = v.find("emission");
         if (name && emission) fail(v.pos(), what + " has both \"material\" and \"emission\"; expected one of them");
         Surface surface;
         if (emission) {
@@ -450,13 +427,13 @@ private:
     }
 
     /// Scale, then rotate about an axis through the origin, then translate.
-    AffineMap transform(const JsonValue* v) const {
+    AffineMap transform(const ParamValue* v) const {
         AffineMap tr;
         if (!v) return tr;
         object(*v, "transform");
         check_keys(*v, "transform", {"scale", "rotate", "translate"});
         double s[3] = {1, 1, 1};
-        if (const JsonValue* sv = v->find("scale")) {
+        if (const ParamValue* sv = v->find("scale")) {
             if (sv->is_number()) {
                 s[0] = s[1] = s[2] = sv->as_number();
             } else {
@@ -468,7 +445,7 @@ private:
                     fail(sv->pos(), "transform scale " + number_text(x) + " is out of range; expected a magnitude in [1e-6, 1e6]");
         }
         double r[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
-        if (const JsonValue* rv = v->find("rotate")) {
+        if (const ParamValue* rv = v->find("rotate")) {
             object(*rv, "transform rotate");
             check_keys(*rv, "transform rotate", {"axis", "degrees"});
             const Vec3 a = direction(required(*rv, "axis", "transform rotate"), "transform rotate axis");
@@ -483,7 +460,7 @@ private:
         }
         for (int i = 0; i < 3; ++i)
             for (int j = 0; j < 3; ++j) tr.a[i][j] = r[i][j] * s[j];
-        if (const JsonValue* tv = v->find("translate")) {
+        if (const ParamValue* tv = v->find("translate")) {
             const Vec3 t = point(*tv, "transform translate");
             tr.a[0][3] = t.x, tr.a[1][3] = t.y, tr.a[2][3] = t.z;
         }
@@ -501,28 +478,28 @@ private:
     }
 
     /// A direction (non-zero) normalised; an error at the value if it cannot be.
-    Vec3 unit_direction(const JsonValue& v, const std::string& what) const {
+    Vec3 unit_direction(const ParamValue& v, const std::string& what) const {
         const Vec3 n = normalize(direction(v, what));
         if (!is_finite(n)) fail(v.pos(), what + " cannot be normalised; expected a direction of moderate length");
         return n;
     }
 
     /// A length > 0 that stays > 0 in single precision.
-    float positive_size(const JsonValue& shape, const char* key, const std::string& what) const {
-        const JsonValue& v = required(shape, key, what);
+    float positive_size(const ParamValue& shape, const char* key, const std::string& what) const {
+        const ParamValue& v = required(shape, key, what);
         const auto x = static_cast<float>(number_in(v, what + " " + key, 0, kMaxSceneCoordinate, true));
         if (!(x > 0.f)) fail(v.pos(), what + " " + key + " rounds to 0 in single precision; expected a larger value");
         return x;
     }
 
-    void shape(const JsonValue& v) {
+    void shape(const ParamValue& v) {
         shape_geometry(v);
         record_medium_interface(v);
     }
 
     // ---------------------------- Media ----------------------------
 
-    void media_section(const JsonValue& v) {
+    void media_section(const ParamValue& v) {
         object(v, "media");
         const MediumParser parser(m_origin, m_spectra, m_read_relative);
         for (const auto& [name, def] : v.members()) {
@@ -532,7 +509,7 @@ private:
     }
 
     /// A medium by name ("vacuum": none, −1), as the value of `what`.
-    int medium_ref(const JsonValue& v, const std::string& what) const {
+    int medium_ref(const ParamValue& v, const std::string& what) const {
         const std::string& name = string(v, what);
         if (name == "vacuum") return -1;
         std::vector<std::string> known = {"vacuum"};
@@ -547,9 +524,9 @@ private:
     /// The shape's two sides ("interior", "exterior"; by default vacuum inside and the
     /// camera's medium outside) for each primitive the shape added. Scenes without media keep
     /// no interfaces.
-    void record_medium_interface(const JsonValue& v) {
-        const JsonValue* in = v.find("interior");
-        const JsonValue* out = v.find("exterior");
+    void record_medium_interface(const ParamValue& v) {
+        const ParamValue* in = v.find("interior");
+        const ParamValue* out = v.find("exterior");
         if (m_scene.media.empty()) {
             if (in || out) fail((in ? in : out)->pos(), "a shape names a medium but the scene defines none; "
                                                          "expected a \"media\" section");
@@ -575,12 +552,12 @@ private:
         return m_scene.interface_material;
     }
 
-    void shape_geometry(const JsonValue& v) {
+    void shape_geometry(const ParamValue& v) {
         const std::string index = std::to_string(m_shape_count++);
         object(v, "shape " + index);
         const std::string& type = string(required(v, "type", "shape " + index), "shape " + index + " type");
         const std::string what = type + " (shape " + index + ")";
-        const JsonValue* motion_key = v.find("motion");
+        const ParamValue* motion_key = v.find("motion");
         if (motion_key && type != "sphere" && type != "quad" && type != "triangle" && type != "mesh")
             fail(motion_key->pos(), what + " cannot move; expected \"motion\" on a sphere, quad, triangle or mesh");
         const std::size_t first_sphere = m_scene.spheres.size(), first_triangle = m_scene.triangles.size();
@@ -589,7 +566,7 @@ private:
     }
 
     /// The shapes just added (from first_sphere and first_triangle on) become one moving shape.
-    void make_moving(const JsonValue& motion_key, const std::string& what, std::size_t first_sphere,
+    void make_moving(const ParamValue& motion_key, const std::string& what, std::size_t first_sphere,
                      std::size_t first_triangle) {
         Aabb rest;
         for (std::size_t i = first_sphere; i < m_scene.spheres.size(); ++i) {
@@ -605,7 +582,7 @@ private:
         m_scene.make_moving(first_sphere, first_triangle, motion(motion_key, what, rest.centroid()));
     }
 
-    void shape_of_type(const JsonValue& v, const std::string& type, const std::string& what) {
+    void shape_of_type(const ParamValue& v, const std::string& type, const std::string& what) {
         if (type == "sphere") {
             check_keys(v, what, {"type", "center", "radius", "material", "emission", "motion", "interior", "exterior"});
             Sphere s;
@@ -618,7 +595,7 @@ private:
             m_scene.spheres.push_back(s);
         } else if (type == "plane") {
             check_keys(v, what, {"type", "normal", "point", "material", "emission", "interior", "exterior"});
-            const JsonValue& nv = required(v, "normal", what);
+            const ParamValue& nv = required(v, "normal", what);
             const Vec3 n = normalize(direction(nv, what + " normal"));
             const Vec3 p = point(required(v, "point", what), what + " point");
             if (!is_finite(n)) fail(nv.pos(), what + " normal cannot be normalised; expected a normal of moderate length");
@@ -656,7 +633,7 @@ private:
             }
         } else if (type == "triangle") {
             check_keys(v, what, {"type", "vertices", "material", "emission", "motion", "interior", "exterior"});
-            const JsonValue& vs = required(v, "vertices", what);
+            const ParamValue& vs = required(v, "vertices", what);
             if (!vs.is_array() || vs.items().size() != 3)
                 fail(vs.pos(), what + " vertices is not an array of 3 points; expected [[x, y, z], [x, y, z], [x, y, z]]");
             const Vec3 a = point(vs.items()[0], what + " vertex"), b = point(vs.items()[1], what + " vertex"),
@@ -664,11 +641,11 @@ private:
             add_triangle(a, b, c, shape_surface(v, what, ShapeKind::triangle), v.pos(), what);
         } else if (type == "mesh") {
             check_keys(v, what, {"type", "file", "transform", "instances", "material", "emission", "motion", "interior", "exterior"});
-            const JsonValue& fv = required(v, "file", what);
+            const ParamValue& fv = required(v, "file", what);
             const std::string& file = string(fv, what + " file");
             // Instances: the triangles are kept once, in the file's space, and placed by each
             // transform (two-level BVH); otherwise they are transformed into the scene's list.
-            const JsonValue* instances = v.find("instances");
+            const ParamValue* instances = v.find("instances");
             if (instances && v.find("transform"))
                 fail(instances->pos(), what + " has both \"transform\" and \"instances\"; expected one of them (each instance is a transform)");
             if (instances && (!instances->is_array() || instances->items().empty()))
@@ -725,7 +702,7 @@ private:
             if (instances) {
                 const int mesh_index = static_cast<int>(m_scene.instanced_meshes.size());
                 m_scene.instanced_meshes.push_back({std::move(object_triangles), {}, {}});
-                for (const JsonValue& item : instances->items())
+                for (const ParamValue& item : instances->items())
                     m_scene.instances.emplace_back(mesh_index, transform(&item));
             }
         } else if (type == "disk") {
@@ -755,7 +732,7 @@ private:
     int m_shape_count = 0;
 
     /// {"type": "spot", "position", "direction", "intensity", "cone_degrees", "falloff_degrees"}.
-    void spot_light(const JsonValue& v) {
+    void spot_light(const ParamValue& v) {
         check_keys(v, "spot light", {"type", "position", "direction", "intensity", "cone_degrees", "falloff_degrees"});
         SpotLight s;
         s.position = point(required(v, "position", "spot light"), "spot light position");
@@ -763,7 +740,7 @@ private:
         s.intensity = spectrum(required(v, "intensity", "spot light"), "spot light intensity", SpectrumUse::Emission);
         const double cone = number_in(required(v, "cone_degrees", "spot light"), "spot light cone_degrees", 0, 180, true);
         double falloff = cone;
-        if (const JsonValue* f = v.find("falloff_degrees"))
+        if (const ParamValue* f = v.find("falloff_degrees"))
             falloff = number_in(*f, "spot light falloff_degrees", 0, cone);
         constexpr double kRadians = 3.14159265358979323846 / 180.0;
         s.cos_cone = static_cast<float>(std::cos(cone * kRadians));
@@ -771,7 +748,7 @@ private:
         m_scene.lights.emplace_back(std::move(s));
     }
 
-    void light(const JsonValue& v) {
+    void light(const ParamValue& v) {
         object(v, "light");
         const std::string& type = string(required(v, "type", "light"), "light type");
         if (type == "spot") return spot_light(v);
@@ -783,85 +760,16 @@ private:
         const Vec3 position = point(required(v, "position", "point light"), "point light position");
         m_scene.add_point_light(position, spectrum(required(v, "intensity", "point light"), "point light intensity",
                                                    SpectrumUse::Emission));
-        if (const JsonValue* m = v.find("motion"))
+        if (const ParamValue* m = v.find("motion"))
             std::get<PointLight>(m_scene.lights.back()).motion = motion(*m, "point light", position);
     }
 };
 
-std::string read_whole_file(const std::filesystem::path& path, std::string& error) {
-    std::error_code ec;
-    if (!std::filesystem::exists(path, ec)) {
-        error = "no such file";
-        return {};
-    }
-    if (std::filesystem::is_directory(path, ec)) {
-        error = "it is a directory";
-        return {};
-    }
-    std::ifstream in(path, std::ios::binary);
-    if (!in) {
-        error = "cannot open it";
-        return {};
-    }
-    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    if (in.bad()) error = "read error";
-    return text;
-}
-
 }  // namespace
 
-Scene load_scene_text(std::string_view text, const std::string& origin, const std::string& scene_name,
-                      SpectralResolution resolution, const RelativeFileReader& read_relative) {
-    const JsonValue root = parse_json(text, origin);
-    return Loader(origin, resolution, read_relative).load(root, scene_name);
-}
-
-Scene load_scene_file(const std::string& path, SpectralResolution resolution) {
-    std::string error;
-    const std::string text = read_whole_file(path, error);
-    if (!error.empty()) throw LocatedError(path, {1, 1}, "cannot read the scene file: " + error + "; expected a readable JSON file");
-    const std::filesystem::path base = std::filesystem::path(path).parent_path();
-    const RelativeFileReader reader = [&](const std::string& rel, std::string& contents, std::string& display,
-                                          std::string& why) {
-        const std::filesystem::path full = base / rel;
-        display = full.string();
-        contents = read_whole_file(full, why);
-        return why.empty();
-    };
-    return load_scene_text(text, path, std::filesystem::path(path).stem().string(), resolution, reader);
-}
-
-std::vector<std::string> builtin_scene_names() {
-    std::vector<std::string> names;
-    for (std::size_t i = 0; i < kEmbeddedScenes_count; ++i) {
-        const std::string_view file = kEmbeddedScenes[i].name ? kEmbeddedScenes[i].name : "";
-        if (file.starts_with("scenes/") && file.ends_with(".json"))
-            names.emplace_back(file.substr(7, file.size() - 12));
-    }
-    std::sort(names.begin(), names.end(), [](const std::string& a, const std::string& b) {
-        if ((a == "cornell") != (b == "cornell")) return a == "cornell";
-        return a < b;
-    });
-    return names;
-}
-
-std::optional<Scene> load_builtin_scene(const std::string& name, SpectralResolution resolution) {
-    if (name.find('/') != std::string::npos) return std::nullopt;
-    const std::string file = "scenes/" + name + ".json";
-    const EmbeddedFile* embedded = find_embedded(file);
-    if (!embedded) return std::nullopt;
-    const RelativeFileReader reader = [](const std::string& rel, std::string& contents, std::string& display,
-                                         std::string& why) {
-        display = (std::filesystem::path("scenes") / rel).lexically_normal().generic_string();
-        const EmbeddedFile* f = find_embedded(display);
-        if (!f) {
-            why = "no such built-in file";
-            return false;
-        }
-        contents = f->bytes();
-        return true;
-    };
-    return load_scene_text(embedded->text, file, name, resolution, reader);
+Scene build_scene(const SceneDescription& description, SpectralResolution resolution,
+                  const RelativeFileReader& read_relative) {
+    return Builder(description.origin, resolution, read_relative).load(description.root, description.name);
 }
 
 }  // namespace spt
