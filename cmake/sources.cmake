@@ -46,6 +46,7 @@ set(SPT_CORE_SOURCES
     src/render/integrator.cpp
     src/render/light_sampling.cpp
     src/render/renderer.cpp
+    src/render/sphere_chains.cpp
     src/render/tile_grid.cpp
     src/render/volumetric_path.cpp
     src/render/wavefront.cpp

@@ -193,9 +193,9 @@ Scene caustic_scene(bool quad) {
 TEST(SphereCaustics, SceneFindsItsGlassSphereAndLight) {
     const Scene scene = caustic_scene(false);
     ASSERT_TRUE(scene.effects.caustic_spheres);
-    ASSERT_EQ(scene.caustic_spheres.size(), 1u);
-    EXPECT_EQ(scene.caustic_spheres[0].sphere, 0);
-    EXPECT_FLOAT_EQ(scene.caustic_spheres[0].eta, 1.5f);
+    ASSERT_EQ(scene.sphere_chains.caustic_spheres.size(), 1u);
+    EXPECT_EQ(scene.sphere_chains.caustic_spheres[0].sphere, 0);
+    EXPECT_FLOAT_EQ(scene.sphere_chains.caustic_spheres[0].eta, 1.5f);
     // Built-in scenes: cornell (plane light) and cornell-point (a point light) have none.
     for (const char* name : {"cornell", "cornell-point"}) {
         std::optional<Scene> s = load_builtin_scene(name, {});
@@ -368,15 +368,15 @@ Scene reflection_scene(bool glass) {
 TEST(SphereReflection, SceneFindsItsReflectingSpheres) {
     const Scene plastic = reflection_scene(false);
     EXPECT_TRUE(plastic.effects.caustic_spheres);
-    EXPECT_TRUE(plastic.caustic_spheres.empty());
-    ASSERT_EQ(plastic.reflecting_spheres.size(), 1u);
-    EXPECT_TRUE(plastic.reflecting_spheres[0].has_kd);
-    EXPECT_FALSE(plastic.reflecting_spheres[0].has_kt);
+    EXPECT_TRUE(plastic.sphere_chains.caustic_spheres.empty());
+    ASSERT_EQ(plastic.sphere_chains.reflecting_spheres.size(), 1u);
+    EXPECT_TRUE(plastic.sphere_chains.reflecting_spheres[0].has_kd);
+    EXPECT_FALSE(plastic.sphere_chains.reflecting_spheres[0].has_kt);
     const Scene glass = reflection_scene(true);
-    ASSERT_EQ(glass.caustic_spheres.size(), 1u);
-    ASSERT_EQ(glass.reflecting_spheres.size(), 1u);
-    EXPECT_TRUE(glass.reflecting_spheres[0].has_kt);
-    EXPECT_FLOAT_EQ(glass.reflecting_spheres[0].eta, 1.5f);
+    ASSERT_EQ(glass.sphere_chains.caustic_spheres.size(), 1u);
+    ASSERT_EQ(glass.sphere_chains.reflecting_spheres.size(), 1u);
+    EXPECT_TRUE(glass.sphere_chains.reflecting_spheres[0].has_kt);
+    EXPECT_FLOAT_EQ(glass.sphere_chains.reflecting_spheres[0].eta, 1.5f);
     // A diffuse ball reflects nothing the strategy can sample: the scene keeps the old loop.
     const Scene diffuse = load_scene_text(R"({"camera": {"position": [0, 0.5, 2], "look_at": [0, 0, 0]},
       "materials": {"m": {"kd": 0.5}},
@@ -384,10 +384,10 @@ TEST(SphereReflection, SceneFindsItsReflectingSpheres) {
                  {"type": "sphere", "center": [0.6, 0.5, 0], "radius": 0.05, "emission": 10}]})",
                                           "diffuse.json", "diffuse", {}, {});
     EXPECT_FALSE(diffuse.effects.caustic_spheres);
-    EXPECT_TRUE(diffuse.reflecting_spheres.empty());
+    EXPECT_TRUE(diffuse.sphere_chains.reflecting_spheres.empty());
     std::optional<Scene> s = load_builtin_scene("cornell-sphere", {});
     ASSERT_TRUE(s.has_value());
-    EXPECT_EQ(s->reflecting_spheres.size(), 2u);  // the blue plastic ball and the glass ball
+    EXPECT_EQ(s->sphere_chains.reflecting_spheres.size(), 2u);  // the blue plastic ball and the glass ball
 }
 
 /// The image with specular next-event estimation off the ball + MIS against the same scene

@@ -3,11 +3,12 @@
 // sampling to hit a small light through the ball (fireflies). Exact, without clamping:
 //
 //   At a vertex x with a non-delta lobe, the refraction chain is chosen with probability
-//   Scene::refraction_nee_share (else the reflection chain of render/reflection_nee.h), one
-//   glass sphere of Scene::caustic_spheres uniformly (together P_s = share/N) and one light of Scene::caustic_light_choice by power
-//   (P_l); a point y on it is sampled by area: uniformly over a quad (p_A = 1/area), or over the
-//   cap of an emitting sphere that any point of the glass ball can see (z = cos of the angle
-//   at the light's centre from the direction to the ball's centre, z ≥ (r − R)/|c − c_L|: a
+//   SphereChains::refraction_share (else the reflection chain of render/reflection_nee.h),
+//   one glass sphere of SphereChains::caustic_spheres uniformly (together P_s = share/N)
+//   and one light of SphereChains::light_choice by power (P_l); a point y on it is sampled
+//   by area: uniformly over a quad (p_A = 1/area), or over the cap of an emitting sphere
+//   that any point of the glass ball can see (z = cos of the angle at the light's centre
+//   from the direction to the ball's centre, z ≥ (r − R)/|c − c_L|: a
 //   point of the light below that cap faces away from the whole ball; p_A = 1/cap area). The
 //   chain x → refract in → refract out → y is then solved for all its roots
 //   (geometry/sphere_caustics.h), and each root contributes
@@ -26,7 +27,7 @@
 //   emitter, weights that emission by p_chain²/(p_chain² + p_snee²) — but only if this solver,
 //   given the same x and y, returns the path's root (emission_weight below asks it): a root
 //   the grid misses near a fold keeps weight 1 on the BSDF side, so the sum stays exact.
-//   Paths that this strategy cannot produce keep the weights of before: emission after other
+//   Paths that this strategy cannot produce keep the light sampler's weights: emission after other
 //   delta chains (weight 1), lights it does not sample (mesh, disk and plane lights, the
 //   environment, textured emitters, point lights), dispersive or rough glass, reflections off
 //   the sphere (D-R-L) and internal reflections (TRT...). Media scenes: not used.
@@ -132,7 +133,7 @@ inline bool sample_chain_light(const Scene& scene, int sphere_index, const Spher
                                float p_sphere, float u_light, float u1, float u2, ChainLightSample& out) {
     const Sphere& ball = scene.spheres[static_cast<std::size_t>(sphere_index)];
     float choice = 0.f;
-    const int light = out.light = scene.caustic_light_choice.sample(u_light, choice);
+    const int light = out.light = scene.sphere_chains.light_choice.sample(u_light, choice);
     float pdf_area = 0.f;
     if (!caustic_light_sample(scene, sphere_index, light, u1, u2, out.y, out.n_y, pdf_area)) return false;
     const SphereChain chain(DVec3(x), DVec3(ball.center), ball.radius, nodes, DVec3(out.y));
@@ -158,12 +159,13 @@ inline float chain_root_area_density(const ChainLightSample& s, const SphereChai
                                                             const Vec3& wo, const SampledWavelengths& lambda,
                                                             float time, float u_sphere, float u_light, float u1,
                                                             float u2, CausticNeeBug bug, PathStats& stats) {
-    const int n_spheres = static_cast<int>(scene.caustic_spheres.size());
+    const SphereChains& chains = scene.sphere_chains;
+    const int n_spheres = static_cast<int>(chains.caustic_spheres.size());
     const int k = std::min(static_cast<int>(u_sphere * static_cast<float>(n_spheres)), n_spheres - 1);
-    const CausticSphere& gs = scene.caustic_spheres[static_cast<std::size_t>(k)];
+    const CausticSphere& gs = chains.caustic_spheres[static_cast<std::size_t>(k)];
     ChainLightSample ls;
-    if (!sample_chain_light(scene, gs.sphere, *gs.nodes, hit.p, scene.refraction_nee_share / static_cast<float>(n_spheres),
-                            u_light, u1, u2, ls))
+    if (!sample_chain_light(scene, gs.sphere, *gs.nodes, hit.p,
+                            chains.refraction_share / static_cast<float>(n_spheres), u_light, u1, u2, ls))
         return SampledSpectrum(0.f);
     const Vec3 y = ls.y;
     const float p_choice = ls.p_choice;
@@ -199,21 +201,25 @@ inline float chain_root_area_density(const ChainLightSample& s, const SphereChai
 /// non-delta vertex x, the direction and density it left with, and how far along the chain
 /// x → in → out → emitter it is.
 struct CausticChainState {
-    /// reflected: x → reflected off a sphere of Scene::reflecting_spheres (render/reflection_nee.h).
+    /// reflected: x → reflected off a sphere of SphereChains::reflecting_spheres
+    /// (render/reflection_nee.h).
     enum Stage : std::uint8_t { none, left_x, inside, out, reflected };
     Stage stage = none;
-    int sphere = -1;  ///< index in Scene::caustic_spheres once inside (reflecting_spheres once reflected)
+    /// Index in SphereChains::caustic_spheres once inside (reflecting_spheres once reflected).
+    int sphere = -1;
     /// The wavelengths' state at x before it sampled (the reflection's lobe choice is taken
     /// over the wavelengths live there: render/reflection_nee.h).
     bool terminated_at_x = false;
     Vec3 x, wx;
     float pdf_x = 0.f;
 
-    /// Index in scene.caustic_spheres of the sphere `hit` is on, or −1.
-    static int caustic_sphere_at(const Scene& scene, const Hit& hit) { return index_at(scene.caustic_spheres, hit); }
-    /// Index in scene.reflecting_spheres of the sphere `hit` is on, or −1.
+    /// Index in SphereChains::caustic_spheres of the sphere `hit` is on, or −1.
+    static int caustic_sphere_at(const Scene& scene, const Hit& hit) {
+        return index_at(scene.sphere_chains.caustic_spheres, hit);
+    }
+    /// Index in SphereChains::reflecting_spheres of the sphere `hit` is on, or −1.
     static int reflecting_sphere_at(const Scene& scene, const Hit& hit) {
-        return index_at(scene.reflecting_spheres, hit);
+        return index_at(scene.sphere_chains.reflecting_spheres, hit);
     }
 
 private:
@@ -248,9 +254,10 @@ inline bool matched_chain_root(const CausticChainState& s, const Sphere& ball, c
 [[gnu::noinline]] inline float caustic_emission_weight(const Scene& scene, const CausticChainState& s, const Hit& hit,
                                                        int light, CausticNeeBug bug) {
     if (bug == CausticNeeBug::no_bsdf_side_weight) return 1.f;
-    const float choice = scene.caustic_light_choice.probability(light);
+    const SphereChains& chains = scene.sphere_chains;
+    const float choice = chains.light_choice.probability(light);
     if (!(choice > 0.f)) return 1.f;
-    const CausticSphere& gs = scene.caustic_spheres[static_cast<std::size_t>(s.sphere)];
+    const CausticSphere& gs = chains.caustic_spheres[static_cast<std::size_t>(s.sphere)];
     const Sphere& glass = scene.spheres[static_cast<std::size_t>(gs.sphere)];
     const float pdf_area = caustic_light_area_pdf(scene, gs.sphere, light, hit.p);
     if (!(pdf_area > 0.f)) return 1.f;
@@ -260,7 +267,7 @@ inline bool matched_chain_root(const CausticChainState& s, const Sphere& ball, c
     const float t_in = 1.f - fresnel_dielectric(static_cast<float>(r.cos_in), gs.eta);
     const float t_out = 1.f - fresnel_dielectric(static_cast<float>(r.cos_t), 1.f / gs.eta);
     const float p_snee =
-        choice * pdf_area * (scene.refraction_nee_share / static_cast<float>(scene.caustic_spheres.size())) / dw_dA;
+        choice * pdf_area * (chains.refraction_share / static_cast<float>(chains.caustic_spheres.size())) / dw_dA;
     return power_heuristic(s.pdf_x * t_in * t_out, p_snee);
 }
 

@@ -2,9 +2,8 @@
 // sample with its shadow ray, queued for the shadow-ray stage, then what it adds once the ray
 // is found clear. They mirror sample_point_lights and sample_area_light of integrator.cpp
 // operation for operation, so both compute the same bits; the path loop shares shadow_ray_to
-// and emission_weight with them but keeps its own light-sampling functions: rewritten on
-// these, its flattened light sampling compiled to different code (20 % smaller
-// sample_area_light) and cornell measured 5 % slower (under load, not conclusive);
+// and emission_weight with them but keeps its own light-sampling functions, flattened for
+// the compiler (rewritten on these they compiled to different, slower code);
 // test_parallel_strategies.cpp compares the two renderers bit for bit on every light type
 // and setting, so any drift between the copies fails there.
 #pragma once
@@ -87,8 +86,8 @@ struct ShadowRay {
     if (ls.planar && !scene.uses_bvh())
         // A quad's own triangles are not tested: only the origin needs its offset, and the ray
         // stops short of the light's plane by 1e-4 of its length, so those triangles could not
-        // stop it anyway (skipping them changes no verdict; their exact tests were 30 % of
-        // next-event estimation's instructions on cornell-quad, the target's offset 6 %).
+        // stop it anyway (skipping them changes no verdict and saves their exact tests and
+        // the target's offset, a large share of a quad light's next-event estimation).
         return {spawn_ray_to(hit, ls.p), {-1, light}};
     return {spawn_ray_between(hit.p, hit.p_err, hit.n, ls.p, ls.p_err, ls.n), {}};
 }

@@ -20,8 +20,8 @@ struct ExactSum {
     /// conversion never carries). v = m·2^e with an integer mantissa m < 2^53: in units of
     /// 2^-64 that is m shifted left by e + 64 (right, dropping the bits below 2^-64, when
     /// negative), placed into the three words with integer shifts only. The film folds every
-    /// pixel at each chunk's end; as floor and ldexp (library calls) this was 2 % of cornell's
-    /// time per path at 512×512. Equal, bit for bit, to reference_add (a test compares them).
+    /// pixel at each chunk's end, so this avoids floor and ldexp (library calls, a visible
+    /// share of the time per path). Equal, bit for bit, to reference_add (a test compares them).
     void add(double v) {
         if (!(v < 0x1p128)) return saturate();
         if (!(v > 0.0)) return;  // +0 and −0 add nothing

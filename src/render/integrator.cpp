@@ -7,11 +7,11 @@
 #include "core/sample_dimensions.h"
 #include "core/sobol_sampler.h"
 #include "model/bsdfs/bsdf.h"
-#include "render/caustic_nee.h"
-#include "render/reflection_nee.h"
 #include "render/direct_light.h"
 #include "render/light_context.h"
 #include "render/mis.h"
+#include "render/path_vertex.h"
+#include "render/sphere_chain_nee.h"
 
 namespace spt {
 
@@ -53,8 +53,8 @@ namespace {
 
 /// Direct light from one of the other lights, chosen by power, through one shadow ray,
 /// weighted against BSDF sampling by the power heuristic (Veach 1997, §9.2). Flattened (all
-/// its callees inlined into it, the shadow ray's offsets above all): out of line, they took
-/// 13 % of the time per path on cornell-sphere; the path loop, which calls it, stays small.
+/// its callees inlined into it, the shadow ray's offsets above all: as calls they cost a
+/// large share of the time per path); itself out of line, so the path loop stays small.
 /// kTextured: the scene has textures, and a light with an emission texture gives the
 /// texture's radiance at the sampled point.
 template <bool kTextured>
@@ -90,13 +90,13 @@ template <bool kTextured>
 
 struct NoScratch {};
 
-/// The path loop. kTextured (scenes with textures only): materials with textures take their
-/// BSDF from the scene at each hit, and emitters their radiance; without, this is the loop
-/// of before, unchanged. kCaustic (scenes with Effects::caustic_spheres, light sampling mis):
-/// specular next-event estimation through glass spheres and the MIS weight of the emission
-/// it competes with (render/caustic_nee.h); without, the loop of before. Sampler: Rng (independent numbers, drawn in sequence) or
-/// SobolSampler (each number from its dimension of core/sample_dimensions.h; for Rng the
-/// seek_dimension calls are no-ops and the loop is the one of before).
+/// The path loop, one bounce per iteration. kTextured (scenes with textures): materials
+/// with textures take their BSDF from the scene at each hit, and emitters their radiance.
+/// kCaustic (scenes with Effects::caustic_spheres, light sampling mis): the specular chains
+/// through and off spheres as a second next-event strategy (render/sphere_chain_nee.h).
+/// Sampler: Rng (independent numbers, drawn in sequence; seek_dimension is a no-op) or
+/// SobolSampler (each number from its dimension of core/sample_dimensions.h). Each flag
+/// off compiles its code away, so the scenes without it pay nothing for it.
 template <bool kTextured, bool kCaustic, class Sampler>
 [[gnu::always_inline]] inline SampledSpectrum path_loop(const Scene& scene, const IntegratorSettings& settings,
                                                         Ray ray, float time, SampledWavelengths& lambda,
@@ -107,26 +107,19 @@ template <bool kTextured, bool kCaustic, class Sampler>
     float eta_scale = 1.f;
     const bool point_nee = scene.effects.point_lights;
     // Lights other than points are sampled only when the scene has them: scenes without
-    // them draw no random numbers for it and take the loop of before.
+    // them draw no random numbers for it.
     const LightDistribution& choices =
         settings.sample_planes ? scene.area_light_choice_with_planes : scene.area_light_choice;
     const bool area_nee = settings.light_sampling != LightSampling::bsdf && !choices.empty();
-    // Emission found by BSDF sampling where a light could also have been sampled: weighted
-    // by MIS after a non-delta bounce (the state below); from the camera or after a delta
-    // bounce no light sample could have found it (weight 1).
-    bool mis_emission = false;
-    float prev_pdf = 0.f;
-    LightSampleContext prev_ctx;
-    [[maybe_unused]] std::conditional_t<kCaustic, CausticChainState, NoScratch> chain;
+    EmissionMis mis;
+    [[maybe_unused]] std::conditional_t<kCaustic, SphereChainNee, NoScratch> chains;
     for (int depth = 0;; ++depth) {
         // ---- Find the next vertex; escaping rays see the environment ----
         ++stats.rays;
         const std::optional<Hit> hit = scene.intersect(ray, time);
         if (!hit) {
             if (const EnvironmentLight* env = scene.environment()) {
-                const float w = mis_emission ? emission_weight(scene, choices, scene.environment_index, prev_ctx,
-                                                               prev_pdf, ray.d, nullptr)
-                                             : 1.f;
+                const float w = mis.weight(scene, choices, scene.environment_index, ray.d, nullptr);
                 L += beta * env->Le.sample(lambda) * w;
             }
             break;
@@ -134,16 +127,11 @@ template <bool kTextured, bool kCaustic, class Sampler>
         const Material& mat = scene.materials[hit->material];
         const Vec3 wo = -ray.d;
 
-        // ---- Emission found by the path ----
+        // ---- Emission found by the path, weighted against the strategies that sample it ----
         if (hit->light >= 0) {
-            float w =
-                mis_emission ? emission_weight(scene, choices, hit->light, prev_ctx, prev_pdf, ray.d, &*hit) : 1.f;
-            if constexpr (kCaustic) {
-                if (chain.stage == CausticChainState::out)
-                    w = caustic_emission_weight(scene, chain, *hit, hit->light, settings.caustic_nee_bug);
-                else if (chain.stage == CausticChainState::reflected)
-                    w = reflection_emission_weight(scene, chain, *hit, hit->light, lambda, settings.caustic_nee_bug);
-            }
+            float w = mis.weight(scene, choices, hit->light, ray.d, &*hit);
+            if constexpr (kCaustic)
+                w = chains.emission_weight(scene, *hit, hit->light, lambda, settings.caustic_nee_bug, w);
             if constexpr (kTextured) L += beta * scene.emitted_textured(*hit, lambda) * w;
             else L += beta * scene.emitted(*hit, lambda) * w;
         }
@@ -154,7 +142,7 @@ template <bool kTextured, bool kCaustic, class Sampler>
         const Bsdf& bsdf = *bsdf_at_hit;
 
         // ---- Next-event estimation at vertices with a non-delta lobe: every point light,
-        // and one other light chosen by power ----
+        // one other light chosen by power, and the specular chains ----
         const bool non_delta = mat.has_non_delta();
         if (point_nee && non_delta) L += beta * sample_point_lights(scene, bsdf, *hit, wo, lambda, time, stats);
         LightSampleContext ctx;
@@ -163,86 +151,22 @@ template <bool kTextured, bool kCaustic, class Sampler>
             seek_dimension(rng, dims::bounce(depth, dims::kLightChoice));
             const float ul = rng.uniform(), ul1 = rng.uniform(), ul2 = rng.uniform();
             L += beta * sample_area_light<kTextured>(scene, choices, bsdf, *hit, ctx, wo, lambda, time, ul, ul1, ul2,
-                                          settings.light_sampling == LightSampling::mis, stats);
+                                                     settings.light_sampling == LightSampling::mis, stats);
         }
-        // ---- Specular next-event estimation through a glass sphere and off a reflecting
-        // one, where BSDF sampling could reach the same path before max_depth (the two
-        // refractions are bounces depth + 1 and depth + 2, the reflection depth + 1) ----
-        [[maybe_unused]] bool caustic_here = false;
-        [[maybe_unused]] bool terminated_at_x = false;
-        if constexpr (kCaustic) {
-            const bool unbounded = settings.max_depth == IntegratorSettings::kUnbounded;
-            caustic_here = non_delta && (unbounded || depth + 1 < settings.max_depth);
-            if (caustic_here) {
-                // One chain per vertex: refraction with probability refraction_nee_share,
-                // else reflection (its first number picks the family, then the sphere).
-                seek_dimension(rng, dims::kCausticNee);
-                const float us = rng.uniform(), ul = rng.uniform(), u1 = rng.uniform(), u2 = rng.uniform();
-                const float share = scene.refraction_nee_share;
-                if (us < share) {
-                    if (unbounded || depth + 2 < settings.max_depth)
-                        L += beta * sample_caustic_nee(scene, bsdf, *hit, wo, lambda, time, us / share, ul, u1, u2,
-                                                       settings.caustic_nee_bug, stats);
-                } else {
-                    L += beta * sample_reflection_nee(scene, bsdf, *hit, wo, lambda, time,
-                                                      (us - share) / (1.f - share), ul, u1, u2,
-                                                      settings.caustic_nee_bug, stats);
-                }
-            }
-            terminated_at_x = lambda.secondary_terminated();
-        }
+        if constexpr (kCaustic)
+            chains.sample(scene, settings, non_delta, depth, bsdf, *hit, wo, lambda, time, rng, beta, L, stats);
 
-        // ---- Continue the path ----
-        seek_dimension(rng, dims::bounce(depth, dims::kBsdfLobe));
-        const float u_lobe = rng.uniform(), u1 = rng.uniform(), u2 = rng.uniform();
-        const std::optional<BsdfSample> bs =
-            bsdf_sample(bsdf, wo, hit->ns, lambda, u_lobe, u1, u2, TransportMode::radiance);
+        // ---- Continue the path: sample the BSDF, carry f·cos/p ----
+        const std::optional<BsdfSample> bs = sample_bounce(bsdf, *hit, wo, lambda, depth, rng);
         if (!bs) break;
         beta *= bs->weight;
         eta_scale *= bs->eta_scale;
-        if constexpr (kCaustic) {
-            // Where the sampled path stands on a chain x → in → out → emitter or x → reflect
-            // → emitter. (A chain the depth leaves no room for cannot reach its emitter.)
-            const bool refracted = bs->is_delta() && bs->flags.has(BsdfFlags::transmission);
-            const bool reflected = bs->is_delta() && !bs->flags.has(BsdfFlags::transmission);
-            if (!bs->is_delta() && caustic_here) {
-                chain.stage = CausticChainState::left_x;
-                chain.x = hit->p, chain.wx = bs->wi, chain.pdf_x = bs->pdf;
-                chain.terminated_at_x = terminated_at_x;
-            } else if (chain.stage == CausticChainState::left_x && reflected && dot(wo, hit->n) > 0.f &&
-                       (chain.sphere = CausticChainState::reflecting_sphere_at(scene, *hit)) >= 0) {
-                chain.stage = CausticChainState::reflected;
-            } else if (chain.stage == CausticChainState::left_x && refracted && dot(wo, hit->n) > 0.f &&
-                       (chain.sphere = CausticChainState::caustic_sphere_at(scene, *hit)) >= 0) {
-                chain.stage = CausticChainState::inside;
-            } else if (chain.stage == CausticChainState::inside && refracted && dot(wo, hit->n) < 0.f &&
-                       CausticChainState::caustic_sphere_at(scene, *hit) == chain.sphere) {
-                chain.stage = CausticChainState::out;
-            } else {
-                chain.stage = CausticChainState::none;
-            }
-        }
+        if constexpr (kCaustic) chains.follow(scene, *bs, *hit, wo);
         ray = spawn_ray(*hit, bs->wi);
-        if (area_nee) {
-            mis_emission = !bs->is_delta() && settings.light_sampling == LightSampling::mis;
-            prev_pdf = bs->pdf;
-            prev_ctx = ctx;
-            // Light sampling alone: emission that BSDF sampling finds after a non-delta
-            // bounce is left to the light samples (weight 0), except from lights they never choose.
-            if (settings.light_sampling == LightSampling::light && !bs->is_delta()) {
-                mis_emission = true;
-                prev_pdf = 0.f;
-            }
-        }
+        if (area_nee) mis.leave(*bs, settings.light_sampling, ctx);
 
-        // ---- Russian roulette: survive with probability ~ throughput, at most 0.95 so that
-        // lossless paths (mirrors, albedo 1) still end ----
-        if (settings.roulette && depth + 1 >= settings.roulette_depth) {
-            const float survive = std::min(0.95f, beta.max_value() * eta_scale);
-            seek_dimension(rng, dims::bounce(depth, dims::kRoulette));
-            if (!(rng.uniform() < survive)) break;
-            beta /= survive;
-        }
+        // ---- Russian roulette ----
+        if (!survives_roulette(settings, depth, [&] { return beta.max_value() * eta_scale; }, beta, rng)) break;
     }
     return L;
 }
@@ -256,8 +180,8 @@ template <class Sampler>
     return path_loop<true, false>(scene, settings, ray, time, lambda, rng, stats);
 }
 
-/// Scenes with glass spheres that specular next-event estimation sees through, out of line
-/// like the textured loop: every other scene keeps the loop of before.
+/// Scenes with spheres for the specular chains, out of line like the textured loop: the
+/// loop of every other scene stays as small as it is.
 template <class Sampler>
 [[gnu::noinline]] SampledSpectrum caustic_path(const Scene& scene, const IntegratorSettings& settings, Ray ray,
                                                float time, SampledWavelengths& lambda, Sampler& rng,
@@ -275,7 +199,8 @@ template <class Sampler>
 #pragma GCC diagnostic ignored "-Wattributes"
 [[gnu::always_inline]] SampledSpectrum trace_path(const Scene& scene, const IntegratorSettings& settings, Ray ray,
                                                   float time, SampledWavelengths& lambda, Rng& rng, PathStats& stats) {
-    // Textured scenes take their own instance of the loop, out of line.
+    // Textured scenes and scenes with the specular chains take their own instances of the
+    // loop, out of line.
     if (scene.effects.textures) [[unlikely]] return textured_path(scene, settings, ray, time, lambda, rng, stats);
     if (scene.effects.caustic_spheres && settings.caustic_nee && settings.light_sampling == LightSampling::mis)
         [[unlikely]] return caustic_path(scene, settings, ray, time, lambda, rng, stats);

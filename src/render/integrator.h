@@ -29,19 +29,10 @@ struct IntegratorSettings {
     LightSampling light_sampling = LightSampling::mis;
     /// Next-event estimation to emitting infinite planes too (path, volumetric path and
     /// wavefront; bdpt and vcm never sample planes: they cannot start light subpaths). On by
-    /// default: on cornell (128², 64 spp, seeds 1–2, reference 4096 spp with BSDF sampling)
-    /// the sampler of what the other planes leave open (model/lights/plane_light.h,
-    /// plane_visibility.h) gives relMSE 0.0126 against 0.0445 with BSDF sampling alone, at
-    /// 6 927 instructions per path against 2 558 (callgrind, portable build, 64², 16 spp;
-    /// 12 228 before the regions were precomputed): 1.30× the efficiency by instructions,
-    /// 1.17× by time (portable build, 1 thread, min of 10 interleaved runs: 0.78 s against
-    /// 0.26 s, shared machine). With --sampler sobol: relMSE 0.0082 against 0.0328, 0.88 s
-    /// against 0.32 s (min of 6). The native build gains less by time (idle machine, 256²,
-    /// 64 spp, 1 thread, min of 5 interleaved): 3.16 s against 0.87 s with the independent
-    /// sampler, about break-even; with Sobol (the default) 3.43 s, relMSE 0.0077: 1.31× the
-    /// efficiency of Sobol without it, 1.46× that of independent sampling without it. Its
-    /// loops in SIMD lanes since (same bits): 2.52 s at relMSE 0.0075 (validation/results/
-    /// benchmark.txt, idle, median of 3), 1.9× the efficiency of the program before issue 17.
+    /// default: the sampler of what the other planes leave open (model/lights/plane_light.h,
+    /// plane_visibility.h) costs more per path than BSDF sampling alone but lowers the error
+    /// of a room lit by its ceiling several times over, a higher efficiency
+    /// (validation/results/benchmark.txt).
     bool sample_planes = true;
     /// 4: the hero wavelength set (default); 1: the hero alone, for measuring what the
     /// companions save (the film weights stay unbiased either way).

@@ -36,7 +36,7 @@
 // The direction of the environment's origin is valid whether or not the disk ray is
 // blocked: bidirectional s = 1 connections use it (a direction uniform over the sphere).
 //
-// What cannot start a light subpath: emitting infinite planes (the Cornell ceiling) have no
+// What cannot start a light subpath: emitting infinite planes (a ceiling light) have no
 // finite area to sample. Like pbrt's lights that cannot be sampled, they are reached only by
 // camera subpaths that hit them (the s = 0 strategies); their light-origin density is 0, and
 // the MIS weight of such a path is 1 since no other strategy can produce it.

@@ -32,8 +32,8 @@ struct PixelSample {
 };
 
 /// The lens point and the shutter time of a sample, for the scenes that have either. Out of
-/// line: inlined, the lens sampling grew the render loop past what GCC inlines whole, and the
-/// pinhole path lost 4.6 % on cornell.
+/// line: inlined, the lens sampling grows the render loop past what GCC inlines whole, which
+/// slows the pinhole path.
 template <class Sampler>
 [[gnu::noinline]] PixelSample<Sampler> start_lens_and_time(Sampler rng, const SampledWavelengths& lambda, float px,
                                                            float py, const Camera& camera) {

@@ -5,9 +5,10 @@
 // the same light choice, area sampling and shadow tests; exact, without clamping:
 //
 //   At a vertex x with a non-delta lobe, the reflection chain is chosen with probability
-//   1 − Scene::refraction_nee_share (scene.cpp says why it is 0.1 beside glass spheres) and
-//   one sphere of Scene::reflecting_spheres uniformly (together P_s = (1 − share)/N; x's own sphere gives nothing: no ray leaving a convex ball meets it
-//   again), one light of Scene::caustic_light_choice by power (P_l) and a point y on it by
+//   1 − SphereChains::refraction_share (sphere_chains.cpp says why it is 0.1 beside glass
+//   spheres) and one sphere of SphereChains::reflecting_spheres uniformly (together
+//   P_s = (1 − share)/N; x's own sphere gives nothing: no ray leaving a convex ball meets it
+//   again), one light of SphereChains::light_choice by power (P_l) and a point y on it by
 //   area (p_A: caustic_light_sample, the cap of a sphere light that the ball can see). The
 //   chain x → reflect at P1 → y is solved for all its roots (geometry/sphere_caustics.h,
 //   Alhazen's problem: up to four) and each root contributes
@@ -75,14 +76,15 @@ inline SampledSpectrum sphere_reflectance(const ReflectingSphere& rs, float cos_
                                                                const Vec3& wo, const SampledWavelengths& lambda,
                                                                float time, float u_sphere, float u_light, float u1,
                                                                float u2, CausticNeeBug bug, PathStats& stats) {
-    const int n_spheres = static_cast<int>(scene.reflecting_spheres.size());
+    const SphereChains& chains = scene.sphere_chains;
+    const int n_spheres = static_cast<int>(chains.reflecting_spheres.size());
     const int k = std::min(static_cast<int>(u_sphere * static_cast<float>(n_spheres)), n_spheres - 1);
-    const ReflectingSphere& rs = scene.reflecting_spheres[static_cast<std::size_t>(k)];
+    const ReflectingSphere& rs = chains.reflecting_spheres[static_cast<std::size_t>(k)];
     if (hit.prim.kind() == ShapeKind::sphere && hit.prim.index() == static_cast<std::uint32_t>(rs.sphere))
         return SampledSpectrum(0.f);
     ChainLightSample ls;
-    if (!sample_chain_light(scene, rs.sphere, *scene.reflection_nodes, hit.p,
-                            (1.f - scene.refraction_nee_share) / static_cast<float>(n_spheres), u_light, u1, u2, ls))
+    if (!sample_chain_light(scene, rs.sphere, *chains.reflection_nodes, hit.p,
+                            (1.f - chains.refraction_share) / static_cast<float>(n_spheres), u_light, u1, u2, ls))
         return SampledSpectrum(0.f);
     const Vec3 y = ls.y;
     const float p_choice = ls.p_choice;
@@ -119,17 +121,18 @@ inline SampledSpectrum sphere_reflectance(const ReflectingSphere& rs, float cos_
                                                           const Hit& hit, int light, const SampledWavelengths& lambda,
                                                           CausticNeeBug bug) {
     if (bug == CausticNeeBug::no_bsdf_side_weight) return 1.f;
-    const float choice = scene.caustic_light_choice.probability(light);
+    const SphereChains& chains = scene.sphere_chains;
+    const float choice = chains.light_choice.probability(light);
     if (!(choice > 0.f)) return 1.f;
-    const ReflectingSphere& rs = scene.reflecting_spheres[static_cast<std::size_t>(s.sphere)];
+    const ReflectingSphere& rs = chains.reflecting_spheres[static_cast<std::size_t>(s.sphere)];
     const Sphere& ball = scene.spheres[static_cast<std::size_t>(rs.sphere)];
     const float pdf_area = caustic_light_area_pdf(scene, rs.sphere, light, hit.p);
     if (!(pdf_area > 0.f)) return 1.f;
     SphereChainRoot r{};
     float dw_dA = 0.f;
-    if (!matched_chain_root(s, ball, *scene.reflection_nodes, hit, r, dw_dA)) return 1.f;
+    if (!matched_chain_root(s, ball, *chains.reflection_nodes, hit, r, dw_dA)) return 1.f;
     const float p_snee =
-        choice * pdf_area * ((1.f - scene.refraction_nee_share) / static_cast<float>(scene.reflecting_spheres.size())) /
+        choice * pdf_area * ((1.f - chains.refraction_share) / static_cast<float>(chains.reflecting_spheres.size())) /
         dw_dA;
     const float p_r = sphere_reflection_probability(rs, static_cast<float>(r.cos_in), lambda, s.terminated_at_x);
     return power_heuristic(s.pdf_x * p_r, p_snee);

@@ -17,13 +17,9 @@ enum class SamplerKind { independent, sobol };
 
 /// The command line's default: Sobol for the path integrator on the tiles schedule, the
 /// independent sampler elsewhere (the wavefront schedule runs only the independent sampler;
-/// bdpt and vcm take only their camera sample from Sobol, unmeasured). With the plane
-/// light's sampler on (the default since), Sobol's overhead per path is a small share: on
-/// cornell (128², 64 spp, seeds 1–4, reference 4096 spp) relMSE 0.0077 against 0.0123
-/// (1.61× lower) at 1.13× the time (256², 64 spp, 1 thread, min of 5 interleaved; shared
-/// machine): 1.42× the efficiency. cornell-point: 1.38–1.62× lower relMSE
-/// (validation/results/sampler_convergence.md). cornell-sphere with the caustic sampler:
-/// equal within the noise.
+/// bdpt and vcm take only their camera sample from Sobol, unmeasured): for the path
+/// integrator it gives a lower error at a small cost per path, a higher efficiency
+/// (validation/results/sampler_convergence.md).
 constexpr SamplerKind default_sampler(IntegratorKind integrator, bool wavefront) {
     return integrator == IntegratorKind::path && !wavefront ? SamplerKind::sobol : SamplerKind::independent;
 }

@@ -7,6 +7,7 @@
 #include "model/bsdfs/bsdf.h"
 #include "render/light_context.h"
 #include "render/medium_tracking.h"
+#include "render/path_vertex.h"
 #include "render/surfaceless_crossing.h"
 
 namespace spt {
@@ -168,13 +169,12 @@ SegmentTransmittance segment_transmittance(const Scene& scene, Ray ray, int medi
             L += beta * Le / mean_active(r_u + r_l * p_l, lambda);
         }  // light sampling alone: left to the light samples
     };
-    // Russian roulette after a scattering event, on the throughput the film will see.
-    auto survives_roulette = [&]() {
-        if (!settings.roulette || depth < settings.roulette_depth) return true;
-        const float survive = std::min(0.95f, (beta / mean_active(r_u, lambda)).max_value() * eta_scale);
-        if (!(rng.uniform() < survive)) return false;
-        beta /= survive;
-        return true;
+    // Russian roulette after a scattering event (depth counts it already), on the
+    // throughput the film will see.
+    auto survives = [&]() {
+        return survives_roulette(
+            settings, depth - 1, [&] { return (beta / mean_active(r_u, lambda)).max_value() * eta_scale; }, beta,
+            rng);
     };
 
     for (;;) {
@@ -243,7 +243,7 @@ SegmentTransmittance segment_transmittance(const Scene& scene, Ray ray, int medi
                 });
             if (terminated || beta.is_zero()) break;
             if (scattered) {
-                if (!survives_roulette()) break;
+                if (!survives()) break;
                 continue;
             }
             // Passed without a real collision: probability T_maj[0] for the hero.
@@ -288,9 +288,7 @@ SegmentTransmittance segment_transmittance(const Scene& scene, Ray ray, int medi
         }
 
         // ---- Continue the path; a refraction changes the medium ----
-        const float u_lobe = rng.uniform(), u1 = rng.uniform(), u2 = rng.uniform();
-        const std::optional<BsdfSample> bs =
-            bsdf_sample(bsdf, wo, hit->ns, lambda, u_lobe, u1, u2, TransportMode::radiance);
+        const std::optional<BsdfSample> bs = sample_bounce(bsdf, *hit, wo, lambda, depth - 1, rng);
         if (!bs) break;
         beta *= bs->weight;
         eta_scale *= bs->eta_scale;
@@ -301,7 +299,7 @@ SegmentTransmittance segment_transmittance(const Scene& scene, Ray ray, int medi
         }
         medium = sp.medium_towards(bs->wi);
         ray = spawn_ray(*hit, bs->wi);
-        if (!survives_roulette()) break;
+        if (!survives()) break;
     }
     return L;
 }

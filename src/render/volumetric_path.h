@@ -1,7 +1,8 @@
 // Path tracing in scenes with participating media (pbrt-v4's VolPathIntegrator; Miller,
 // Georgiev & Jarosz 2019, "A null-scattering path integral formulation of light transport").
-// trace_path hands a path here only when the scene has media, so scenes without them run
-// the surface-only loop of before.
+// The renderer sends a path here only when the scene has media, so scenes without them run
+// the surface loop and pay nothing for media. The per-vertex steps both share are in
+// render/path_vertex.h.
 //
 // Chromatic media make free-flight distances depend on λ. Distances are sampled with the
 // hero wavelength's majorant, and every wavelength's estimate is divided by the average

@@ -1,5 +1,7 @@
-// The wavefront stages. Each mirrors one part of path_loop (integrator.cpp) with the path's
-// state kept in PathState between stages; the comments name the part.
+// The wavefront stages: the path kernel's phases (integrator.cpp's path_loop) run for many
+// paths at a time, with each path's state kept in PathState between stages. The phases call
+// the same per-vertex steps (render/path_vertex.h); next-event estimation is split in two
+// (render/direct_light.h) so that the shadow rays are traced in a stage of their own.
 #include "render/wavefront.h"
 
 #include <algorithm>
@@ -7,6 +9,7 @@
 #include "model/bsdfs/bsdf.h"
 #include "render/direct_light.h"
 #include "render/light_context.h"
+#include "render/path_vertex.h"
 #include "render/pixel_sample.h"
 
 namespace spt {
@@ -27,9 +30,7 @@ struct Wavefront::PathState {
     SampledSpectrum beta_nee{0.f};  ///< beta at the vertex whose light samples await the shadow stage
     float eta_scale = 1.f;
     int depth = 0;
-    bool mis_emission = false;
-    float prev_pdf = 0.f;
-    LightSampleContext prev_ctx;
+    EmissionMis mis;
     Hit hit;
 };
 
@@ -186,9 +187,7 @@ void Wavefront::intersect(int begin, int end, ChunkQueues& out, PathStats& stats
             path.hit = *hit;
             out.paths.push_back(i);
         } else if (const EnvironmentLight* env = m_scene.environment()) {
-            const float w = path.mis_emission ? emission_weight(m_scene, choices, m_scene.environment_index,
-                                                                path.prev_ctx, path.prev_pdf, path.ray.d, nullptr)
-                                              : 1.f;
+            const float w = path.mis.weight(m_scene, choices, m_scene.environment_index, path.ray.d, nullptr);
             path.L += path.beta * env->Le.sample(path.lambda) * w;
         }
     }
@@ -215,9 +214,7 @@ void Wavefront::shade(int begin, int end, ChunkQueues& out, PathStats& stats) {
 
         // Emission found by the path
         if (hit.light >= 0) {
-            const float w = path.mis_emission ? emission_weight(scene, choices, hit.light, path.prev_ctx,
-                                                                path.prev_pdf, path.ray.d, &hit)
-                                              : 1.f;
+            const float w = path.mis.weight(scene, choices, hit.light, path.ray.d, &hit);
             path.L += path.beta * scene.emitted(hit, lambda) * w;
         }
         if (!mat.reflects() || path.depth == settings.max_depth) continue;
@@ -261,29 +258,17 @@ void Wavefront::shade(int begin, int end, ChunkQueues& out, PathStats& stats) {
         }
 
         // Continue the path
-        const float u_lobe = path.rng.uniform(), u1 = path.rng.uniform(), u2 = path.rng.uniform();
-        const std::optional<BsdfSample> bs =
-            bsdf_sample(bsdf, wo, hit.ns, path.lambda, u_lobe, u1, u2, TransportMode::radiance);
+        const std::optional<BsdfSample> bs = sample_bounce(bsdf, hit, wo, path.lambda, path.depth, path.rng);
         if (!bs) continue;
         path.beta *= bs->weight;
         path.eta_scale *= bs->eta_scale;
         path.ray = spawn_ray(hit, bs->wi);
-        if (area_nee) {
-            path.mis_emission = !bs->is_delta() && settings.light_sampling == LightSampling::mis;
-            path.prev_pdf = bs->pdf;
-            path.prev_ctx = ctx;
-            if (settings.light_sampling == LightSampling::light && !bs->is_delta()) {
-                path.mis_emission = true;
-                path.prev_pdf = 0.f;
-            }
-        }
+        if (area_nee) path.mis.leave(*bs, settings.light_sampling, ctx);
 
         // Russian roulette
-        if (settings.roulette && path.depth + 1 >= settings.roulette_depth) {
-            const float survive = std::min(0.95f, path.beta.max_value() * path.eta_scale);
-            if (!(path.rng.uniform() < survive)) continue;
-            path.beta /= survive;
-        }
+        if (!survives_roulette(settings, path.depth, [&] { return path.beta.max_value() * path.eta_scale; },
+                               path.beta, path.rng))
+            continue;
         ++path.depth;
         out.paths.push_back(i);
     }

@@ -9,7 +9,6 @@
 #include <type_traits>
 
 #include "geometry/aabb.h"
-#include "geometry/sphere_caustics.h"
 #include "scene/material_types.h"
 
 namespace spt {
@@ -252,6 +251,16 @@ std::size_t Scene::geometry_bytes() const {
 }
 
 void Scene::finalize() {
+    prepare_materials();
+    validate_shapes();
+    validate_camera();
+    build_acceleration();
+    finalize_lights();
+    analyse_effects();
+    prepare_strategies();
+}
+
+void Scene::prepare_materials() {
     for (Material& m : materials) {
         validate_material(m);
         m.flags = bsdf_flags(m.bsdf);
@@ -268,6 +277,9 @@ void Scene::finalize() {
             m.flags.bits |= bsdf_flags(lowest).bits;
         }
     }
+}
+
+void Scene::validate_shapes() {
     auto check_material_index = [&](int index, const std::string& who) {
         require(index >= 0 && index < static_cast<int>(materials.size()),
                 who + " refers to a material that does not exist");
@@ -339,6 +351,9 @@ void Scene::finalize() {
         inst.world_bounds = instance_bounds(inst.to_world, instanced_meshes[static_cast<std::size_t>(inst.mesh)].bounds);
         require(finite(inst.world_bounds.lo) && finite(inst.world_bounds.hi), "an instance must be finite after its transform");
     }
+}
+
+void Scene::validate_camera() {
     require(width > 0 && height > 0 && spp > 0, "image size and spp must be positive");
     require(finite(camera.position) && finite(camera.look_at) && finite(camera.up),
             "camera vectors must be finite");
@@ -355,7 +370,9 @@ void Scene::finalize() {
     require(std::isfinite(camera.shutter_open) && std::isfinite(camera.shutter_close) &&
                 camera.shutter_open <= camera.shutter_close,
             "camera shutter must be finite with open <= close");
+}
 
+void Scene::build_acceleration() {
     // Split planes for intersection: axis-aligned ones take the fast path.
     m_axis_planes.clear();
     m_general_planes.clear();
@@ -385,9 +402,9 @@ void Scene::finalize() {
     if (!m_use_bvh)
         for (const Triangle& t : triangles) bounds.push_back(bounding_sphere(t));
     m_triangle_lanes.build(bounds);
+}
 
-    finalize_lights();
-
+void Scene::analyse_effects() {
     // Which effects are called for: only materials that some shape uses count.
     effects = Effects{};
     effects.point_lights = !point_light_indices.empty() || !spot_light_indices.empty();
@@ -435,85 +452,12 @@ void Scene::finalize() {
             effects.textures = true;
         }
     }
-    find_caustic_spheres();
 }
 
-void Scene::find_caustic_spheres() {
-    caustic_spheres.clear();
-    reflecting_spheres.clear();
-    reflection_nodes.reset();
-    caustic_light_choice = LightDistribution{};
-    refraction_nee_share = 1.f;
-    if (effects.media) return;  // the volumetric path tracer does not use them
-    const Spectrum zero(SpectrumSource::constant(0.0), SpectralResolution{});
-    const Spectrum one(SpectrumSource::constant(1.0), SpectralResolution{});
-    for (std::size_t i = 0; i < spheres.size(); ++i) {
-        const Sphere& s = spheres[i];
-        const Material& m = materials[s.material];
-        if (s.light >= 0 || m.textured || !(s.radius > 0.f)) continue;
-        // The reflection chain: a delta reflection lobe whose reflectance the strategy knows.
-        ReflectingSphere r;
-        r.sphere = static_cast<int>(i);
-        if (const LobeMixBsdf* b = std::get_if<LobeMixBsdf>(&m.bsdf)) {
-            const bool fresnel = b->has_transmission() && b->eta.is_constant() && b->eta.eval(560.f) > 1.f;
-            if ((b->has_mirror() || fresnel) && (!b->has_transmission() || fresnel)) {
-                r.eta = fresnel ? b->eta.eval(560.f) : 1.f;
-                r.kd = b->kd, r.ks = b->ks, r.kt = b->kt;
-                r.has_kd = b->has_diffuse(), r.has_kt = fresnel;
-                reflecting_spheres.push_back(r);
-            }
-        } else if (const DielectricBsdf* d = std::get_if<DielectricBsdf>(&m.bsdf)) {
-            if (d->ggx.is_smooth() && !d->film.present() && !d->is_dispersive() && d->eta.eval(560.f) > 1.f) {
-                r.eta = d->eta.eval(560.f);
-                r.kd = zero, r.ks = zero, r.kt = one;
-                r.has_kt = true;
-                reflecting_spheres.push_back(r);
-            }
-        }
-        CausticSphere c;
-        c.sphere = static_cast<int>(i);
-        if (const LobeMixBsdf* b = std::get_if<LobeMixBsdf>(&m.bsdf)) {
-            if (b->has_diffuse() || b->has_mirror() || !b->has_transmission() || !b->eta.is_constant()) continue;
-            c.eta = b->eta.eval(560.f);
-            c.kt = b->kt;
-        } else if (const DielectricBsdf* d = std::get_if<DielectricBsdf>(&m.bsdf)) {
-            if (!d->ggx.is_smooth() || d->film.present() || d->is_dispersive()) continue;
-            c.eta = d->eta.eval(560.f);
-            c.kt = Spectrum(SpectrumSource::constant(1.0), SpectralResolution{});
-        } else {
-            continue;
-        }
-        if (!(c.eta > 1.f)) continue;  // the solver's contract (η = 1: no refraction; < 1: not handled)
-        c.nodes = std::make_shared<const SphereChainNodes>(c.eta);
-        caustic_spheres.push_back(c);
-    }
-    if (caustic_spheres.empty() && reflecting_spheres.empty()) return;
-    std::vector<float> power(lights.size(), 0.f);
-    bool any = false;
-    for (std::size_t i = 0; i < lights.size(); ++i) {
-        if (light_textured(static_cast<int>(i))) continue;
-        if (std::holds_alternative<SphereLight>(lights[i]) || std::holds_alternative<QuadLight>(lights[i])) {
-            power[i] = light_power(lights[i]);
-            any |= power[i] > 0.f;
-        }
-    }
-    if (!any) {
-        caustic_spheres.clear();
-        reflecting_spheres.clear();
-        return;
-    }
-    if (!reflecting_spheres.empty())
-        reflection_nodes = std::make_shared<const SphereChainNodes>(SphereChainNodes::reflection());
-    // With both chains, one vertex in ten samples the reflection: the strategy's main gain is
-    // the MIS weight it lends the BSDF-found reflections off the small lights (the fireflies),
-    // which a rare sample already gives, and the refraction chain keeps most of its samples.
-    // Measured (256², 64 spp, seeds 1-4): relMSE × rays on cornell-sphere and cornell-quad
-    // fell steadily from share 0.5 to 0.97 (0.9 within 1 % of 0.97; sampling both chains at
-    // every vertex cost 1.6x the rays); 0.9 leaves more to scenes whose reflections carry
-    // more of the light.
-    refraction_nee_share = reflecting_spheres.empty() ? 1.f : caustic_spheres.empty() ? 0.f : 0.9f;
-    caustic_light_choice.build(power);
-    effects.caustic_spheres = true;
+
+void Scene::prepare_strategies() {
+    sphere_chains = SphereChains::prepare(*this);
+    effects.caustic_spheres = sphere_chains.active();
 }
 
 void Scene::finalize_media() {

@@ -25,6 +25,7 @@
 #include "model/material.h"
 #include "model/textures/texture.h"
 #include "render/integrator_kind.h"
+#include "render/sphere_chains.h"
 #include "scene/effects.h"
 
 namespace spt {
@@ -56,34 +57,6 @@ struct ShadowSkip {
     /// A planar light (a quad) whose triangles are skipped, or −1: a segment that ends on a
     /// plane and does not lie in it meets the plane only at its end.
     int planar_light = -1;
-};
-
-struct SphereChainNodes;  // geometry/sphere_caustics.h
-
-/// A smooth, non-dispersive glass sphere that specular next-event estimation sees through
-/// (render/caustic_nee.h): its material is clear glass (LobeMixBsdf with only kt and a
-/// constant index, or a smooth DielectricBsdf without a film and with a constant index), it
-/// does not emit and does not move.
-struct CausticSphere {
-    int sphere = -1;  ///< index in Scene::spheres
-    float eta = 1.f;  ///< index inside relative to outside, > 1
-    /// What each refraction multiplies the path by besides Fresnel (kt; 1 for a dielectric).
-    Spectrum kt;
-    std::shared_ptr<const SphereChainNodes> nodes;  ///< the chain solver's table for eta
-};
-
-/// A smooth sphere with a delta reflection lobe that specular next-event estimation reflects
-/// light off (render/caustic_nee.h): its material is a LobeMixBsdf with a mirror lobe (ks)
-/// or a transmission lobe of constant index (kt: Fresnel reflection), or a smooth
-/// DielectricBsdf without a film and with a constant index; it is not textured, does not
-/// emit and does not move. Reflectance along the chain: ks + kt·F(cos θ, eta); the BSDF
-/// picks that reflection with probability (k̄s + k̄t·F)/(k̄d + k̄s + k̄t), k̄ the mean over the
-/// live wavelengths (a DielectricBsdf is kd = ks = 0, kt = 1).
-struct ReflectingSphere {
-    int sphere = -1;  ///< index in Scene::spheres
-    float eta = 1.f;  ///< index of the Fresnel lobe (unused when kt is zero)
-    Spectrum kd, ks, kt;
-    bool has_kd = false, has_kt = false;
 };
 
 struct Scene {
@@ -155,17 +128,9 @@ struct Scene {
     LightDistribution area_light_choice;
     LightDistribution area_light_choice_with_planes;
     int environment_index = -1;
-    /// Derived by finalize() for specular next-event estimation (effects.caustic_spheres):
-    /// the glass spheres it sees through, and the lights it samples by area (emitting spheres
-    /// and quads without an emission texture) chosen by power.
-    std::vector<CausticSphere> caustic_spheres;
-    /// The spheres it reflects off (D → R → L), and the solver's table for that chain.
-    std::vector<ReflectingSphere> reflecting_spheres;
-    std::shared_ptr<const SphereChainNodes> reflection_nodes;
-    /// The probability that a vertex samples the refraction chain rather than the
-    /// reflection chain (1 without reflecting spheres, 0 without glass ones).
-    float refraction_nee_share = 1.f;
-    LightDistribution caustic_light_choice;
+    /// Next-event strategies beyond the light sampler, prepared by finalize() (each holds its
+    /// own tables): specular chains through and off spheres (effects.caustic_spheres).
+    SphereChains sphere_chains;
     Vec3 bounds_center;
     float bounds_radius = 1.f;
 
@@ -223,8 +188,10 @@ struct Scene {
     /// mesh light, on its triangle `triangle`: LightSample::triangle).
     SampledSpectrum light_point_emission(int index, const Vec3& p, std::uint32_t triangle,
                                          const SampledWavelengths& lambda) const;
-    /// Checks every value (throws SceneError naming the culprit), analyses the effects and
-    /// builds the acceleration data (the BVH when there are enough bounded shapes).
+    /// Makes the scene renderable, in named steps (the private functions below, in order):
+    /// validation of materials, shapes and camera (throws SceneError naming the culprit),
+    /// the acceleration build (the BVH when there are enough bounded shapes), the lights and
+    /// their sampler, the effect analysis, and the next-event strategies' tables.
     void finalize();
     /// Replaces every wavelength-dependent index by its mean over 380–780 nm (dispersion off,
     /// for measuring its cost), then finalizes again.
@@ -346,14 +313,25 @@ private:
         }
         return hit;
     }
+    // The steps of finalize(), in order (each may throw SceneError naming the defect).
+    /// Checks each material and derives its flags (the lobes its textures can add included).
+    void prepare_materials();
+    /// Checks every shape, finishes the moving ones and the instanced meshes (their own BVHs).
+    void validate_shapes();
+    /// Checks the image size, spp and the camera.
+    void validate_camera();
+    /// Sorts the planes for intersection and builds the BVH (or the small scene's lanes).
+    void build_acceleration();
     /// Copies the emitting shapes' geometry into their lights, checks the lights, finds the
-    /// bounding sphere and builds the light choices.
+    /// bounding sphere and builds the light choices (the light sampler).
     void finalize_lights();
+    /// Sets effects from what the scene holds; checks the media and the emission textures.
+    void analyse_effects();
     /// Checks the media (coefficients, g, boxes) and that every shape has its interface.
     void finalize_media();
-    /// Finds caustic_spheres, reflecting_spheres and caustic_light_choice, and sets
-    /// effects.caustic_spheres: the one place that decides which spheres qualify.
-    void find_caustic_spheres();
+    /// Prepares the next-event strategies' tables (sphere_chains) and sets
+    /// effects.caustic_spheres.
+    void prepare_strategies();
     static Hit with_prim(Hit hit, ShapeKind kind, std::ptrdiff_t index) {
         hit.prim = PrimId(kind, static_cast<std::uint32_t>(index));
         return hit;
