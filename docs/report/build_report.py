@@ -301,10 +301,15 @@ def convergence(r: Renderer, p: dict, figs: Path) -> dict:
     fig, ax = plt.subplots(figsize=(6.4, 4.4))
     for scene, integ in series:
         ref, noise = canonical_reference(r, p, scene)
-        pts = []
+        pts, pngs = [], []
         for spp in p["conv_spp"]:
             x = r.render(scene, width=p["size"], height=p["size"], spp=spp, seed=1000 + spp, integrator=integ)
             pts.append((spp, rel_mse(x.image, ref, noise), x.seconds))
+            pngs.append(x.png)
+        if (scene, integ) in (("cornell", "path"), ("cornell-sphere", "path")):
+            # What the numbers look like: the same scene at each spp, side by side.
+            panels(figs / f"convergence_{scene}.png", [load_png(f) for f in pngs],
+                   [f"{s} spp, {t:.2f} s, relMSE {e:.3g}" for s, e, t in pts])
         good = [(s, e) for s, e, _ in pts if e > 0]
         slope, se = loglog_fit([s for s, _ in good], [e for _, e in good]) if len(good) >= 2 else (math.nan, math.nan)
         name = f"{scene}/{integ}"
@@ -466,6 +471,8 @@ def extensions(r: Renderer, p: dict, figs: Path) -> dict:
         saved, r.threads = r.threads, threads
         t[threads] = r.render("cornell", width=n, height=n, spp=spp, seed=21)
         r.threads = saved
+    panels(figs / "threads.png", [load_png(t[1].png), load_png(t[2].png)],
+           [f"1 thread: {t[1].seconds:.2f} s", f"2 threads: {t[2].seconds:.2f} s (same image, bit for bit)"])
     out["threads"] = {"seconds_1": t[1].seconds, "seconds_2": t[2].seconds,
                       "speedup": ratio(t[1].seconds, t[2].seconds),
                       "identical": "yes" if np.array_equal(t[1].image, t[2].image) else "no"}
@@ -489,6 +496,24 @@ def extensions(r: Renderer, p: dict, figs: Path) -> dict:
     panels(figs / "light_sampling.png", [load_png(x.png) for x in ls.values()],
            [f"--light-sampling {m}: relMSE {out['light_sampling'][m]['relmse']:.3g}, {x.seconds:.1f} s"
             for m, x in ls.items()])
+
+    # Special next-event strategies, each against its absence at equal spp: the plane light's
+    # sampler on cornell (its light is the whole ceiling) and specular chains through the glass
+    # and shiny spheres on cornell-sphere (the caustics of a small light).
+    for key, scene, flag in (("plane_nee", "cornell", "--plane-nee"), ("caustic_nee", "cornell-sphere", "--caustic-nee")):
+        if not supports(r, [flag, "off"], scene=scene):
+            out[key] = {"available": "no"}
+            continue
+        ref, noise = canonical_reference(r, p, scene)
+        runs = {v: r.render(scene, width=n, height=n, spp=spp, seed=29, extra=(flag, v)) for v in ("off", "on")}
+        res = {v: {"relmse": rel_mse(x.image, ref, noise), "seconds": x.seconds} for v, x in runs.items()}
+        res.update({"available": "yes", "relmse_ratio": ratio(res["off"]["relmse"], res["on"]["relmse"]),
+                    "time_ratio": ratio(res["on"]["seconds"], res["off"]["seconds"]),
+                    "efficiency_ratio": ratio(res["off"]["relmse"] * res["off"]["seconds"],
+                                              res["on"]["relmse"] * res["on"]["seconds"])})
+        out[key] = res
+        panels(figs / f"{key}.png", [load_png(x.png) for x in runs.values()],
+               [f"{flag} {v}: {x.seconds:.1f} s, relMSE {res[v]['relmse']:.3g}" for v, x in runs.items()])
 
     # Dispersion on and off: prism with the scene's integrator.
     w = p["size"]
@@ -811,6 +836,50 @@ def git_commit() -> str:
         return "unknown (not a git checkout)"
 
 
+# What the report is built from: the renderer's source and data, the report's own scripts and
+# template, and the validation modules and measurement files it reads. Its outputs (README.md,
+# results.json, figures/, report.pdf) are not inputs, so committing them keeps the hash.
+# validation/test_report_current.py compares the hash recorded in docs/report/results.json with
+# the tree's: a report built from another program fails it.
+REPORT_INPUTS = ("src", "spectra", "scenes", "CMakeLists.txt", "cmake",
+                 "docs/report/build_report.py", "docs/report/report.md.in", "docs/report/make_pdf.py",
+                 "docs/report/build_pdf.sh", "docs/report/requirements-pdf.txt",
+                 "validation/accuracy_cost.py", "validation/bdpt_compare.py", "validation/benchmark.py",
+                 "validation/color_accuracy.py", "validation/gallery.py",
+                 "validation/results/parallel_strategies.md", "bench/README.md")
+
+
+def input_files(root: Path) -> list[str]:
+    """The report's input files under `root` (relative, sorted): the files git tracks there, or in
+    a tree that is not a git checkout every file but Python caches."""
+    try:
+        listed = subprocess.run(["git", "ls-files", "-z", "--", *REPORT_INPUTS], cwd=root, capture_output=True,
+                                check=True).stdout.decode()
+        if listed:
+            return sorted(f for f in listed.split("\0") if f and (root / f).is_file())
+    except (OSError, subprocess.CalledProcessError):
+        pass
+    files = []
+    for entry in REPORT_INPUTS:
+        path = root / entry
+        if path.is_file():
+            files.append(entry)
+        elif path.is_dir():
+            files += [f.relative_to(root).as_posix() for f in path.rglob("*")
+                      if f.is_file() and "__pycache__" not in f.parts and f.suffix != ".pyc"]
+    return sorted(files)
+
+
+def inputs_sha256(root: Path = ROOT) -> str:
+    """sha256 over the report's input files: each relative path and its contents."""
+    h = hashlib.sha256()
+    for rel in input_files(root):
+        data = (root / rel).read_bytes()
+        h.update(f"{rel}\0{len(data)}\0".encode())
+        h.update(data)
+    return h.hexdigest()
+
+
 def measured_files(r: Renderer, p: dict, figs: Path) -> dict:
     """Numbers the report quotes from measurements committed elsewhere (timings that need an
     idle machine and an external library): the parallel strategies' table and the BVH against
@@ -943,6 +1012,7 @@ def main(argv=None) -> int:
         "mode": mode,
         "date": datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC"),
         "commit": git_commit(), "program": r.version, "program_sha256": r.sha[:16],
+        "inputs_sha256": inputs_sha256(),
         "machine": f"{benchmark.cpu_model()}, {os.cpu_count()} logical CPUs, {platform.system()} {platform.release()}",
         "threads": p["threads"], "size": p["size"],
     }}
