@@ -1,9 +1,10 @@
 #!/usr/bin/env python3
-"""Renders the README's gallery: every built-in scene at its own defaults (integrator, spp,
-tone curve), scaled to a width of --width pixels, into validation/results/gallery/SCENE.png,
-and prints the markdown table the README shows.
+"""Renders docs/GALLERY.md's images: every built-in scene with its own integrator and tone
+curve, converged (--spp-factor times its own spp, at most --width pixels wide) into
+docs/gallery/SCENE.png, and small at its own spp into docs/gallery/quick/SCENE.png; prints the
+markdown table. Times are CPU seconds over the threads (the wall time on idle cores).
 
-    python3 validation/gallery.py [--width 320] [--program build/pathtracer]
+    python3 validation/gallery.py [--width 400] [--spp-factor 4] [--program build/pathtracer] [SCENE...]
 
 Everything comes from `pathtracer --list-scenes` (name, size, spp, integrator, summary), so a new
 built-in scene appears here without a change to this script. docs/report/build_report.py
@@ -12,11 +13,11 @@ imports render_gallery for the report's gallery.
 import argparse
 import os
 import re
+import resource
 import subprocess
 import sys
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-OUT = os.path.join(ROOT, "validation", "results", "gallery")
 
 
 def list_scenes(program):
@@ -49,23 +50,50 @@ def render_gallery(program, out_dir, width, spp=None, threads=None):
     return rows
 
 
+def cpu_render(program, scene, width, spp, out, threads):
+    """Renders and returns the CPU seconds over the threads: the wall time on idle cores, also
+    when the machine is shared."""
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    subprocess.run(["nice", "-n", "15", str(program), scene, "--width", str(width), "--spp", str(spp),
+                    "--threads", str(threads), "-o", out, "--quiet"], check=True)
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return (after.ru_utime - before.ru_utime + after.ru_stime - before.ru_stime) / threads
+
+
 def main():
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("--width", type=int, default=320, help="width of each render (the height keeps the aspect)")
+    p.add_argument("--width", type=int, default=400, help="width of each converged render (at most the scene's)")
+    p.add_argument("--spp-factor", type=int, default=4, help="the converged render's spp over the scene's own")
+    p.add_argument("--quick-width", type=int, default=160, help="width of the small render at the scene's own spp")
+    p.add_argument("--threads", type=int, default=2)
     p.add_argument("--program", default=os.path.join(ROOT, "build", "pathtracer"))
-    p.add_argument("--columns", type=int, default=3, help="images per row of the markdown table")
+    p.add_argument("--out", default=os.path.join(ROOT, "docs"), help="writes the images to OUT/gallery/ (the table goes to stdout)")
+    p.add_argument("scenes", nargs="*", help="only these scenes (default: every built-in scene)")
     args = p.parse_args()
-    cells = []
-    for g in render_gallery(args.program, OUT, args.width):
-        print(f"{g['name']}: {g['width']}x{g['height']}, {g['spp']} spp, {g['integrator']}, {g['seconds']:.1f} s",
-              file=sys.stderr)
-        rel = os.path.relpath(g["path"], ROOT)
-        cells.append(f"![{g['name']}]({rel})<br>`{g['name']}` ({g['integrator']}): {g['summary']}")
-    rows = [cells[i:i + args.columns] for i in range(0, len(cells), args.columns)]
-    print("| " + " | ".join([" "] * args.columns) + " |")
-    print("|" + "---|" * args.columns)
-    for row in rows:
-        print("| " + " | ".join(row + [" "] * (args.columns - len(row))) + " |")
+    from PIL import Image
+    folder = os.path.join(args.out, "gallery")
+    os.makedirs(os.path.join(folder, "quick"), exist_ok=True)
+    rows = []
+    for name, w, h, scene_spp, integrator, summary in list_scenes(args.program):
+        if args.scenes and name not in args.scenes:
+            continue
+        width = min(args.width, w)
+        big, small = os.path.join(folder, f"{name}.png"), os.path.join(folder, "quick", f"{name}.png")
+        t_big = cpu_render(args.program, name, width, args.spp_factor * scene_spp, big, args.threads)
+        cpu_render(args.program, name, args.quick_width, scene_spp, small, args.threads)
+        for f in (big, small):
+            Image.open(f).convert("RGB").save(f, optimize=True)
+        # The scene's own size and spp, timed as above: what `pathtracer NAME` takes.
+        t_default = t_big / args.spp_factor * (w * h) / (width * round(width * h / w))
+        rows.append((name, integrator, summary, width, round(width * h / w), args.spp_factor * scene_spp, t_big,
+                     w, h, scene_spp, t_default))
+        print(f"{name}: {t_big:.1f} s", file=sys.stderr, flush=True)
+    print("| converged | at its defaults | scene |")
+    print("|---|---|---|")
+    for (name, integrator, summary, width, height, spp, t_big, w, h, scene_spp, t_default) in rows:
+        print(f"| ![{name}](gallery/{name}.png) | ![{name} at its defaults](gallery/quick/{name}.png) | "
+              f"`{name}` ({integrator}): {summary}.<br>Converged: {width}×{height}, {spp} spp, {t_big:.0f} s."
+              f"<br>Defaults (`pathtracer {name}`): {w}×{h}, {scene_spp} spp, about {t_default:.0f} s |")
 
 
 if __name__ == "__main__":
