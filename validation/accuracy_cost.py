@@ -1028,6 +1028,8 @@ def parse_args(argv):
                    help="built-in scenes (default cornell cornell-point colorchecker prism); colorchecker is "
                         "scored in ΔE2000, any other scene in relMSE against its reference")
     p.add_argument("--threads", type=int, default=2, help="threads of every render (default 2)")
+    p.add_argument("--plot-per-scene", action="store_true",
+                   help="also write each panel of the plot as accuracy_cost_<i>.png, i in panel order")
     p.add_argument("--out", type=Path, default=None,
                    help="folder for accuracy_cost.md and accuracy_cost.png (default validation/results; "
                         "with --quick build/accuracy-quick, so a smoke test never replaces the committed results)")
@@ -1291,6 +1293,9 @@ def main(argv=None) -> int:
             "Table, reading and caveats: validation/results/accuracy_cost.md",
         ]
         plot(views, args, png_path, title, notes)
+        if args.plot_per_scene:  # one legible figure per panel (the report shows these)
+            for i, view in enumerate(views):
+                plot([view], args, args.out / f"accuracy_cost_{i}.png", "", [])
         say("")
         say("\n".join(read))
         say(f"wrote {md_path} and {png_path} in {total:.0f} s")

@@ -707,7 +707,7 @@ def save_png_optimized(path: Path) -> None:
 def accuracy_section(r: Renderer, p: dict, figs: Path, cache: Path) -> dict:
     """validation/accuracy_cost.py with every integrator against bdpt references."""
     folder = figs.parent / "accuracy"
-    argv = p["accuracy_cost"] + ["--program", str(r.program), "--out", str(folder),
+    argv = p["accuracy_cost"] + ["--plot-per-scene", "--program", str(r.program), "--out", str(folder),
                                  "--cache-dir", str(cache / "accuracy-cost")]
     fraction = 1.0
     if r.fraction != 1:  # --estimate: every spp (sweep, bins, references) at about the fraction
@@ -719,6 +719,12 @@ def accuracy_section(r: Renderer, p: dict, figs: Path, cache: Path) -> dict:
     # One copy of the plot, with the other figures (accuracy/ keeps the study's table and data).
     shutil.move(folder / "accuracy_cost.png", figs / "accuracy_cost.png")
     save_png_optimized(figs / "accuracy_cost.png")
+    # The text shows the panels one by one, each legible at the page's width.
+    panel_lines = []
+    for i, panel in enumerate(sorted(folder.glob("accuracy_cost_*.png"), key=lambda f: int(f.stem.rsplit("_", 1)[1]))):
+        shutil.move(panel, figs / f"accuracy_cost_{i}.png")
+        save_png_optimized(figs / f"accuracy_cost_{i}.png")
+        panel_lines.append(f"![error against render time, panel {i + 1}](figures/accuracy_cost_{i}.png)")
     data = json.loads((folder / "accuracy_cost.json").read_text())
     # Per scene and integrator: the spp sweep at the defaults (path's is the knob "spp").
     lines = ["| scene | integrator | reference | spp | seeds | time (s) | error ± s.e. | efficiency | slope of error vs spp |",
@@ -777,6 +783,7 @@ def accuracy_section(r: Renderer, p: dict, figs: Path, cache: Path) -> dict:
         + " (many seeds where a render is cheap and holds few of the bright samples, few where one render "
         f"already holds many and its relMSE spreads less), the other scenes {others}" if noisy
         else f"every scene {others}")
+    out["figures"] = "\n\n".join(panel_lines) or "![error against render time](figures/accuracy_cost.png)"
     return out
 
 
