@@ -67,7 +67,7 @@ int main(int argc, char** argv) {
     const std::vector<Triangle> mesh = bumpy_sphere(n_triangles);
     Bvh bvh;
     auto t0 = std::chrono::steady_clock::now();
-    const BvhBuildStats stats = bvh.build({.triangles = mesh});
+    const BvhBuildStats stats = bvh.build(BvhShapes::of_arrays(mesh));
     const double build_s = seconds_since(t0);
     std::printf("mesh: %zu triangles; BVH build %.3f s (%d nodes, %d leaves, depth %d)\n", mesh.size(), build_s,
                 stats.nodes, stats.leaves, stats.max_depth);
@@ -75,9 +75,9 @@ int main(int argc, char** argv) {
     auto trace_mesh = [&](std::size_t, const Ray& r) {
         double t = r.t_max;
         BvhHit h;
-        return bvh.intersect(r, {.triangles = mesh}, t, h) ? 1 : 0;
+        return bvh.intersect(r, BvhShapes::of_arrays(mesh), t, h) ? 1 : 0;
     };
-    auto shadow_mesh = [&](std::size_t, const Ray& r) { return bvh.occluded(r, {.triangles = mesh}) ? 1 : 0; };
+    auto shadow_mesh = [&](std::size_t, const Ray& r) { return bvh.occluded(r, BvhShapes::of_arrays(mesh)) ? 1 : 0; };
     for (int threads : {1, 2}) {
         long hits = 0;
         const double rps = rays_per_second(rays, threads, trace_mesh, hits);
@@ -97,7 +97,7 @@ int main(int argc, char** argv) {
             spheres.push_back({Vec3(rng.uniform(), rng.uniform(), rng.uniform()) * 2.f - Vec3(1, 1, 1),
                                r * (0.5f + rng.uniform()), 0});
         Bvh sb;
-        sb.build({.spheres = spheres});
+        sb.build(BvhShapes::of_arrays(spheres));
         const int m = n >= 10000 ? 20000 : 400000;
         const std::vector<Ray> srays = random_rays(m, 2);
         auto brute = [&](std::size_t, const Ray& ray) {
@@ -108,7 +108,7 @@ int main(int argc, char** argv) {
         auto tree = [&](std::size_t, const Ray& ray) {
             double t = ray.t_max;
             BvhHit h;
-            return sb.intersect(ray, {.spheres = spheres}, t, h) ? 1 : 0;
+            return sb.intersect(ray, BvhShapes::of_arrays(spheres), t, h) ? 1 : 0;
         };
         long h1 = 0, h2 = 0;
         const double a = rays_per_second(srays, 1, brute, h1), b = rays_per_second(srays, 1, tree, h2);

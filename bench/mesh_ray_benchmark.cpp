@@ -131,7 +131,7 @@ int main(int argc, char** argv) {
             for (const Vec3& p : {t.p0, t.p1, t.p2}) v.insert(v.end(), {p.x, p.y, p.z});
         write_floats(out_dir + "/mesh-" + key + ".f32", v);
     }
-    const BvhShapes shapes{.triangles = mesh};
+    const BvhShapes shapes = BvhShapes::of_arrays(mesh);
 
     // Build: the best of `repeat` (the machine may be busy), and the memory it holds.
     Bvh bvh;

@@ -33,6 +33,7 @@
 #include "model/material.h"
 #include "spectral/sampled.h"
 #include "spectral/spectrum.h"
+#include "uniform.h"
 
 namespace {
 
@@ -53,15 +54,7 @@ double normal_quantile_two_sided(double a) {
     return hi;
 }
 
-class Uniform {
-public:
-    explicit Uniform(std::uint64_t seed) : m_gen(seed) {}
-    float next_float() { return static_cast<float>(m_gen() >> 40) * 0x1p-24f; }
-    double next_double() { return static_cast<double>(m_gen() >> 11) * 0x1p-53; }
-
-private:
-    std::mt19937_64 m_gen;
-};
+using spt_test::Uniform;
 
 spt::Spectrum exact(const spt::SpectrumSource& s) {
     return spt::Spectrum(s, spt::SpectralResolution{spt::SpectralResolution::kExact});

@@ -70,7 +70,7 @@ TEST(Bvh, NearestHitEqualsBruteForce) {
     for (const auto& [n_spheres, n_triangles] : {std::pair{0, 1}, std::pair{3, 0}, std::pair{40, 60}, std::pair{300, 1500}}) {
         const Soup s = random_soup(rng, n_spheres, n_triangles);
         Bvh bvh;
-        const BvhBuildStats stats = bvh.build({s.spheres, s.triangles});
+        const BvhBuildStats stats = bvh.build(BvhShapes::of_arrays(s.spheres, s.triangles));
         EXPECT_LT(stats.max_depth, Bvh::kStackSize);
         int hits = 0;
         for (int k = 0; k < 4000; ++k) {
@@ -85,9 +85,9 @@ TEST(Bvh, NearestHitEqualsBruteForce) {
             BvhHit expected, got;
             const bool want = brute_force(s, ray, expected);
             double t_best = ray.t_max;
-            const bool have = bvh.intersect(ray, {s.spheres, s.triangles}, t_best, got);
+            const bool have = bvh.intersect(ray, BvhShapes::of_arrays(s.spheres, s.triangles), t_best, got);
             ASSERT_EQ(have, want) << "ray " << k;
-            EXPECT_EQ(bvh.occluded(ray, {s.spheres, s.triangles}), want) << "ray " << k;
+            EXPECT_EQ(bvh.occluded(ray, BvhShapes::of_arrays(s.spheres, s.triangles)), want) << "ray " << k;
             if (!want) continue;
             ++hits;
             EXPECT_EQ(got.t, expected.t) << "ray " << k;
@@ -125,7 +125,7 @@ TEST(Bvh, ClosedMeshHasNoCracksThroughTheBvh) {
         }
     }
     Bvh bvh;
-    bvh.build({.triangles = mesh});
+    bvh.build(BvhShapes::of_arrays(mesh));
     int misses = 0, unoccluded = 0;
     for (int k = 0; k < 100000; ++k) {
         const Vec3 o = sample_uniform_sphere(rng.uniform(), rng.uniform()) * (0.5f * rng.uniform());
@@ -134,8 +134,8 @@ TEST(Bvh, ClosedMeshHasNoCracksThroughTheBvh) {
         if (k % 8 == 3) d = Vec3(0, 0, k % 16 < 8 ? 1.f : -1.f);  // axis-parallel, at the poles
         double t_best = kInfinity;
         BvhHit hit;
-        if (!bvh.intersect({o, d, kInfinity}, {.triangles = mesh}, t_best, hit)) ++misses;
-        if (!bvh.occluded({o, d, kInfinity}, {.triangles = mesh})) ++unoccluded;
+        if (!bvh.intersect({o, d, kInfinity}, BvhShapes::of_arrays(mesh), t_best, hit)) ++misses;
+        if (!bvh.occluded({o, d, kInfinity}, BvhShapes::of_arrays(mesh))) ++unoccluded;
     }
     EXPECT_EQ(misses, 0);
     EXPECT_EQ(unoccluded, 0);
@@ -145,17 +145,17 @@ TEST(Bvh, ClosedMeshHasNoCracksThroughTheBvh) {
 TEST(Bvh, CoincidentAndCollinearPrimitives) {
     std::vector<Sphere> same(50, Sphere{{1, 2, 3}, 0.5f, 0});
     Bvh bvh;
-    bvh.build({.spheres = same});
+    bvh.build(BvhShapes::of_arrays(same));
     double t = kInfinity;
     BvhHit hit;
-    ASSERT_TRUE(bvh.intersect({{1, 2, 10}, {0, 0, -1}, kInfinity}, {.spheres = same}, t, hit));
+    ASSERT_TRUE(bvh.intersect({{1, 2, 10}, {0, 0, -1}, kInfinity}, BvhShapes::of_arrays(same), t, hit));
     EXPECT_NEAR(t, 6.5, 1e-6);
     std::vector<Sphere> line;
     for (int i = 0; i < 2000; ++i) line.push_back({{std::ldexp(1.f, i % 60 - 30), 0, 0}, 1e-3f, 0});
-    const BvhBuildStats stats = bvh.build({.spheres = line});
+    const BvhBuildStats stats = bvh.build(BvhShapes::of_arrays(line));
     EXPECT_LT(stats.max_depth, Bvh::kStackSize);
     t = kInfinity;
-    EXPECT_TRUE(bvh.intersect({{1, 0, 5}, {0, 0, -1}, kInfinity}, {.spheres = line}, t, hit));
+    EXPECT_TRUE(bvh.intersect({{1, 0, 5}, {0, 0, -1}, kInfinity}, BvhShapes::of_arrays(line), t, hit));
 }
 
 /// Scene: the BVH is used above the threshold only, and its hits equal the linear loop's.

@@ -13,6 +13,7 @@
 #include "model/material.h"
 #include "spectral/sampled.h"
 #include "spectral/spectrum.h"
+#include "uniform.h"
 
 namespace {
 
@@ -66,15 +67,7 @@ spt::Vec3 dir_deg(double deg, bool above = true) {
     return {static_cast<float>(std::sin(t)), 0.f, static_cast<float>(above ? std::cos(t) : -std::cos(t))};
 }
 
-class Uniform {
-public:
-    explicit Uniform(std::uint64_t seed) : m_gen(seed) {}
-    float next_float() { return static_cast<float>(m_gen() >> 40) * 0x1p-24f; }
-    double next_double() { return static_cast<double>(m_gen() >> 11) * 0x1p-53; }
-
-private:
-    std::mt19937_64 m_gen;
-};
+using spt_test::Uniform;
 
 }  // namespace
 

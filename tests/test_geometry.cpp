@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "core/frame.h"
-#include "log_uniform.h"
+#include "uniform.h"
 #include "geometry/ray.h"
 #include "model/bsdfs/fresnel.h"
 #include "scene/scene.h"

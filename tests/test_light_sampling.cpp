@@ -26,6 +26,7 @@
 #include "scene/scene.h"
 #include "spectral/sampled.h"
 #include "spectral/spectrum.h"
+#include "uniform.h"
 
 namespace {
 
@@ -35,15 +36,7 @@ constexpr double kAlpha = 1e-3;  ///< family-wise rejection level
 /// Per-test level for m tests sharing one family at level kAlpha (Šidák).
 double sidak(int m) { return 1.0 - std::pow(1.0 - kAlpha, 1.0 / m); }
 
-class Uniform {
-public:
-    explicit Uniform(std::uint64_t seed) : m_gen(seed) {}
-    float next_float() { return static_cast<float>(m_gen() >> 40) * 0x1p-24f; }
-    double next_double() { return static_cast<double>(m_gen() >> 11) * 0x1p-53; }
-
-private:
-    std::mt19937_64 m_gen;
-};
+using spt_test::Uniform;
 
 spt::Spectrum exact(const spt::SpectrumSource& s) {
     return spt::Spectrum(s, spt::SpectralResolution{spt::SpectralResolution::kExact});

@@ -41,7 +41,7 @@ Scene empty_scene() {
 
 /// A scene of one black shape of the given kind (stored in `array`) emitting radiance le.
 template <typename Shape>
-Scene one_emitter_scene(Shape shape, ShapeKind kind, std::vector<Shape> Scene::*array, double le) {
+Scene one_emitter_scene(Shape shape, ShapeKind kind, std::vector<Shape> spt::ShapeArray<Shape>::*array, double le) {
     Scene scene = empty_scene();
     shape.material = 0;
     shape.light = scene.add_emitter(kind, constant(le));

@@ -16,7 +16,7 @@
 #include <vector>
 
 #include "chi2.h"
-#include "log_uniform.h"
+#include "uniform.h"
 #include "geometry/bvh.h"
 
 namespace spt {
@@ -495,7 +495,7 @@ struct Mix {
     std::vector<Disk> disks;
     std::vector<Cylinder> cylinders;
     std::vector<Cone> cones;
-    BvhShapes view() const { return {spheres, triangles, disks, cylinders, cones}; }
+    BvhShapes view() const { return BvhShapes::of_arrays(spheres, triangles, disks, cylinders, cones); }
 };
 
 Mix random_mix(Uniform& rng, int n) {

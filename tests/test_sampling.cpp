@@ -19,21 +19,14 @@
 #include "model/material.h"
 #include "spectral/sampled.h"
 #include "spectral/spectrum.h"
+#include "uniform.h"
 
 namespace {
 
 constexpr double kPiD = 3.14159265358979323846;
 constexpr double kAlpha = 1e-3;  ///< rejection level of every goodness-of-fit test here
 
-class Uniform {
-public:
-    explicit Uniform(std::uint64_t seed) : m_gen(seed) {}
-    float next_float() { return static_cast<float>(m_gen() >> 40) * 0x1p-24f; }
-    double next_double() { return static_cast<double>(m_gen() >> 11) * 0x1p-53; }
-
-private:
-    std::mt19937_64 m_gen;
-};
+using spt_test::Uniform;
 
 template <typename F>
 double simpson(F f, double a, double b, int n) {

@@ -18,6 +18,7 @@
 #include "spectral/spectral_table.h"
 #include "spectral/spectrum.h"
 #include "spectral/spectrum_source.h"
+#include "uniform.h"
 
 #ifndef SPT_SOURCE_DIR
 #error "SPT_SOURCE_DIR must name the source tree (a public compile definition of spt_core)"
@@ -28,16 +29,7 @@ namespace {
 using spt::SpectrumSource;
 
 /// Deterministic uniform numbers, independent of the renderer's own generator.
-class Uniform {
-public:
-    explicit Uniform(std::uint64_t seed) : m_gen(seed) {}
-    /// Float in [0, 1) with 24 random bits (every value exactly representable).
-    float next_float() { return static_cast<float>(m_gen() >> 40) * 0x1p-24f; }
-    double next_double() { return static_cast<double>(m_gen() >> 11) * 0x1p-53; }
-
-private:
-    std::mt19937_64 m_gen;
-};
+using spt_test::Uniform;
 
 // Analytic CDF of the visible-wavelength density 0.0039398042/cosh²(0.0072(λ−538)) on
 // [360, 830]: (tanh(a(λ−538)) + tanh(178a)) / (tanh(178a) + tanh(292a)).

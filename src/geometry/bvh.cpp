@@ -227,7 +227,7 @@ std::uint32_t Bvh::collapse(const std::vector<BinaryNode>& tree, int node, const
             std::uint32_t count = 0;
             for (int i = c.begin; i < c.end; ++i) {
                 const PrimId prim = prims[i].ref;
-                const Triangle* t = prim.kind() == ShapeKind::triangle ? &shapes.triangles[prim.index()] : nullptr;
+                const Triangle* t = prim.kind() == ShapeKind::triangle ? &shapes.of<Triangle>()[prim.index()] : nullptr;
                 if (t && has_zero_float_area(t->p0, t->p1, t->p2)) continue;  // never hit
                 const int lane = static_cast<int>(count++ % 4);
                 if (lane == 0) m_leaf.emplace_back();
@@ -251,19 +251,22 @@ BvhBuildStats Bvh::build(const BvhShapes& shapes) {
     m_leaf.clear();
     BuildContext ctx;
     std::vector<BuildPrim>& prims = ctx.prims;
-    prims.reserve(shapes.spheres.size() + shapes.triangles.size() + shapes.disks.size() +
-                  shapes.cylinders.size() + shapes.cones.size());
+    std::size_t count = shapes.instances.size();
+    std::apply([&](const auto&... list) { ((count += list.size()), ...); }, shapes.arrays);
+    prims.reserve(count);
     auto add = [&prims](auto list, ShapeKind kind) {
         for (std::size_t i = 0; i < list.size(); ++i) {
             const Aabb b = bounds(list[i]);
             prims.push_back({b, b.centroid(), PrimId(kind, static_cast<std::uint32_t>(i))});
         }
     };
-    add(shapes.spheres, ShapeKind::sphere);
-    add(shapes.triangles, ShapeKind::triangle);
-    add(shapes.disks, ShapeKind::disk);
-    add(shapes.cylinders, ShapeKind::cylinder);
-    add(shapes.cones, ShapeKind::cone);
+    // In the order of ShapeTypes (the tree depends on the order of its primitives).
+    std::apply([&]<typename... T>(const std::span<const T>&... list) {
+        auto add_bounded = [&]<typename S>(std::span<const S> l) {
+            if constexpr (BoundedShape<S>) add(l, shape_kind<S>);
+        };
+        (add_bounded(list), ...);
+    }, shapes.arrays);
     add(shapes.instances, ShapeKind::instance);
     if (prims.empty()) return stats;
     // Leaf references keep the entry index in 28 bits (and a count in 4).
@@ -288,16 +291,13 @@ BvhBuildStats Bvh::build(const BvhShapes& shapes) {
 
 namespace {
 
-/// Distance to a primitive other than a triangle (which needs t_max and returns barycentrics),
-/// or infinity: one switch on the kind per primitive test.
+/// Distance to a primitive other than a triangle (which needs t_max and returns barycentrics)
+/// and an instance (handled apart), or infinity: one chain of kind tests per primitive test.
 inline double quadric_t(const Ray& ray, const BvhShapes& shapes, PrimId p) {
-    switch (p.kind()) {
-        case ShapeKind::sphere: return shapes.spheres[p.index()].intersect_t(ray);
-        case ShapeKind::disk: return shapes.disks[p.index()].intersect_t(ray);
-        case ShapeKind::cylinder: return shapes.cylinders[p.index()].intersect_t(ray);
-        case ShapeKind::cone: return shapes.cones[p.index()].intersect_t(ray);
-        default: return kInfinity;  // planes are never in the tree; instances are handled apart
-    }
+    return visit_shape_kind(p.kind(), [&]<typename T>(std::type_identity<T>) -> double {
+        if constexpr (std::is_same_v<T, Triangle> || !BoundedShape<T>) return kInfinity;  // never here
+        else return shapes.of<T>()[p.index()].intersect_t(ray);
+    });
 }
 
 /// The ray's slab constants in four lanes (RaySlabs, splatted once per ray).

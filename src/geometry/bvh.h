@@ -1,5 +1,5 @@
-// Bounding volume hierarchy over the bounded shapes of a scene (spheres, triangles, disks,
-// cylinders and cones; infinite planes stay outside). A binary tree is built by binned SAH over
+// Bounding volume hierarchy over the bounded shapes of a scene (every type of the set with
+// bounds(), geometry/shape.h; infinite planes stay outside). A binary tree is built by binned SAH over
 // all three axes (Wald 2007), in parallel for large subtrees, then collapsed into 4-wide nodes
 // whose four child boxes are tested at once (the layout of Embree's BVH4 and of Ylitie et al.
 // 2017, without compression); leaves hold up to 8 primitives in packets of four, triangles
@@ -8,36 +8,74 @@
 // virtual call per ray. Box tests are conservative (aabb.h), so the watertight triangle test
 // decides every hit exactly as it would without the tree.
 #pragma once
+#include <concepts>
 #include <cstdint>
 #include <span>
+#include <tuple>
 #include <vector>
 
 #include "core/simd.h"
 #include "geometry/aabb.h"
-#include "geometry/cone.h"
-#include "geometry/cylinder.h"
-#include "geometry/disk.h"
 #include "geometry/mesh_instance.h"
-#include "geometry/sphere.h"
-#include "geometry/triangle.h"
+#include "geometry/shape.h"
 #include "geometry/triangle_lanes.h"
 
 namespace spt {
 
 struct InstancedMesh;
 
+/// Bounding box of a sphere, rounded outwards.
+Aabb bounds(const Sphere& s);
+/// Bounding box of a triangle (its vertices are exact, so no rounding).
+Aabb bounds(const Triangle& t);
+/// Bounding boxes of the quadrics, computed in double and rounded outwards.
+Aabb bounds(const Disk& d);
+Aabb bounds(const Cylinder& c);
+Aabb bounds(const Cone& c);
+
+/// Shape types with bounds() go into the tree; the others (infinite planes) stay beside it.
+template <typename T>
+concept BoundedShape = requires(const T& shape) {
+    { bounds(shape) } -> std::same_as<Aabb>;
+};
+
+namespace detail {
+template <typename Tuple>
+struct SpansOf;
+template <typename... Ts>
+struct SpansOf<std::tuple<Ts...>> {
+    using type = std::tuple<std::span<const Ts>...>;
+};
+}  // namespace detail
+
 /// The shape arrays a BVH is built over and traversed with (the same arrays both times); its
 /// primitives are PrimIds (kind and index) into them.
 struct BvhShapes {
-    std::span<const Sphere> spheres{};
-    std::span<const Triangle> triangles{};
-    std::span<const Disk> disks{};
-    std::span<const Cylinder> cylinders{};
-    std::span<const Cone> cones{};
+    /// One array per type of the set (geometry/shape.h); empty ones are simply absent.
+    detail::SpansOf<ShapeTypes>::type arrays{};
     /// Placed meshes (a two-level BVH: their own trees are in `meshes`, indexed by
     /// MeshInstance::mesh).
     std::span<const MeshInstance> instances{};
     const InstancedMesh* meshes = nullptr;
+
+    template <typename T>
+    std::span<const T> of() const { return std::get<std::span<const T>>(arrays); }
+    /// The given arrays (of distinct shape types), the others empty.
+    template <typename... V>
+    static BvhShapes of_arrays(const V&... arrays) {
+        BvhShapes shapes;
+        ((std::get<std::span<const typename V::value_type>>(shapes.arrays) = arrays), ...);
+        return shapes;
+    }
+    /// Every array of `all`.
+    template <typename A>
+    static BvhShapes of_all(const A& all) {
+        BvhShapes shapes;
+        all.for_each_array([&](const auto& array) {
+            std::get<std::span<const typename std::decay_t<decltype(array)>::value_type>>(shapes.arrays) = array;
+        });
+        return shapes;
+    }
 };
 
 /// A 4-wide node: the boxes of its four children side by side (lane k = child k), tested
@@ -125,14 +163,5 @@ private:
     std::vector<WideBvhNode> m_nodes;  ///< depth-first; the root is node 0
     std::vector<BvhLeafPacket> m_leaf;  ///< the leaves' primitives, leaf after leaf
 };
-
-/// Bounding box of a sphere, rounded outwards.
-Aabb bounds(const Sphere& s);
-/// Bounding box of a triangle (its vertices are exact, so no rounding).
-Aabb bounds(const Triangle& t);
-/// Bounding boxes of the quadrics, computed in double and rounded outwards.
-Aabb bounds(const Disk& d);
-Aabb bounds(const Cylinder& c);
-Aabb bounds(const Cone& c);
 
 }  // namespace spt

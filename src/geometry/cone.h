@@ -7,6 +7,7 @@
 
 #include "geometry/axial_quadric.h"
 #include "geometry/ray.h"
+#include "geometry/shape_array.h"
 #include "geometry/surface_sample.h"
 
 namespace spt {
@@ -18,6 +19,16 @@ struct Cone {
     float height = 1.f;   ///< apex = base + axis·height (> 0)
     int material = -1;
     int light = -1;  ///< emitter attached to the cone (Scene::lights), −1 if none
+
+    static constexpr const char* kName = "cone";
+    /// What makes the cone unrenderable, or nullptr.
+    const char* defect() const {
+        if (!is_finite(base)) return "cone base must be finite";
+        if (!(is_finite(axis) && std::fabs(length(axis) - 1.f) < 1e-4f)) return "cone axis must be a unit vector";
+        if (!(std::isfinite(radius) && radius > 0.f)) return "cone radius must be > 0 and finite";
+        if (!(std::isfinite(height) && height > 0.f)) return "cone height must be > 0 and finite";
+        return nullptr;
+    }
 
     /// The axis normalised in double: the surface's definition for every computation.
     DVec3 unit_axis() const { return normalize(DVec3(axis)); }
@@ -77,6 +88,8 @@ struct Cone {
 
     /// (u, v) as axial_uv: u = φ/2π about the axis, v the height fraction (base 0, top 1).
     void uv(const Vec3& p, float& u, float& v) const { axial_uv(p, base, unit_axis(), height, u, v); }
+    /// dp/du up to scale: the direction of growing φ about the axis.
+    Vec3 dpdu(const Vec3& p) const { return cross(axis, p - base); }
 
 private:
     /// Largest magnitude in the double arithmetic of points on the surface (for their error).
@@ -100,6 +113,13 @@ private:
         p = (DVec3(base) + (h * s) * a + (rr * (1.0 - s)) * e).to_float();
         n = normal(e, a).to_float();
     }
+};
+
+template <>
+struct ShapeArray<Cone> {
+    std::vector<Cone> cones;
+    std::vector<Cone>& array() { return cones; }
+    const std::vector<Cone>& array() const { return cones; }
 };
 
 }  // namespace spt

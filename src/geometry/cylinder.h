@@ -6,6 +6,7 @@
 
 #include "geometry/axial_quadric.h"
 #include "geometry/ray.h"
+#include "geometry/shape_array.h"
 #include "geometry/surface_sample.h"
 
 namespace spt {
@@ -17,6 +18,16 @@ struct Cylinder {
     float height = 1.f;
     int material = -1;
     int light = -1;  ///< emitter attached to the cylinder (Scene::lights), −1 if none
+
+    static constexpr const char* kName = "cylinder";
+    /// What makes the cylinder unrenderable, or nullptr.
+    const char* defect() const {
+        if (!is_finite(base)) return "cylinder base must be finite";
+        if (!(is_finite(axis) && std::fabs(length(axis) - 1.f) < 1e-4f)) return "cylinder axis must be a unit vector";
+        if (!(std::isfinite(radius) && radius > 0.f)) return "cylinder radius must be > 0 and finite";
+        if (!(std::isfinite(height) && height > 0.f)) return "cylinder height must be > 0 and finite";
+        return nullptr;
+    }
 
     /// The axis normalised in double: the surface's definition for every computation.
     DVec3 unit_axis() const { return normalize(DVec3(axis)); }
@@ -71,6 +82,8 @@ struct Cylinder {
 
     /// (u, v) as axial_uv: u = φ/2π about the axis, v the height fraction (base 0, top 1).
     void uv(const Vec3& p, float& u, float& v) const { axial_uv(p, base, unit_axis(), height, u, v); }
+    /// dp/du up to scale: the direction of growing φ about the axis.
+    Vec3 dpdu(const Vec3& p) const { return cross(axis, p - base); }
 
 private:
     /// Largest magnitude in the double arithmetic of points on the surface (for their error).
@@ -83,6 +96,13 @@ private:
         tangent_basis(a, s, t);
         return s;
     }
+};
+
+template <>
+struct ShapeArray<Cylinder> {
+    std::vector<Cylinder> cylinders;
+    std::vector<Cylinder>& array() { return cylinders; }
+    const std::vector<Cylinder>& array() const { return cylinders; }
 };
 
 }  // namespace spt

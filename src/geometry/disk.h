@@ -6,6 +6,7 @@
 
 #include "geometry/dvec3.h"
 #include "geometry/ray.h"
+#include "geometry/shape_array.h"
 #include "geometry/surface_sample.h"
 
 namespace spt {
@@ -16,6 +17,15 @@ struct Disk {
     float radius = 1.f;
     int material = -1;
     int light = -1;  ///< emitter attached to the disk (Scene::lights), −1 if none
+
+    static constexpr const char* kName = "disk";
+    /// What makes the disk unrenderable, or nullptr.
+    const char* defect() const {
+        if (!is_finite(center)) return "disk centre must be finite";
+        if (!(is_finite(normal) && std::fabs(length(normal) - 1.f) < 1e-4f)) return "disk normal must be a unit vector";
+        if (!(std::isfinite(radius) && radius > 0.f)) return "disk radius must be > 0 and finite";
+        return nullptr;
+    }
 
     /// The normal normalised in double: the plane's definition for every computation.
     DVec3 unit_normal() const { return normalize(DVec3(normal)); }
@@ -72,10 +82,19 @@ struct Disk {
         u = turns(x, y);
         v = static_cast<float>(std::min(std::sqrt(x * x + y * y) / radius, 1.0));
     }
+    /// dp/du up to scale: the direction of growing φ about the normal.
+    Vec3 dpdu(const Vec3& p) const { return cross(normal, p - center); }
 
 private:
     /// Largest magnitude in the double arithmetic of points on the surface (for their error).
     double magnitude() const { return max_abs(DVec3(center)) + radius; }
+};
+
+template <>
+struct ShapeArray<Disk> {
+    std::vector<Disk> disks;
+    std::vector<Disk>& array() { return disks; }
+    const std::vector<Disk>& array() const { return disks; }
 };
 
 }  // namespace spt

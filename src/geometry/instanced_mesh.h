@@ -12,7 +12,7 @@ struct InstancedMesh {
     Bvh bvh;                          ///< over `triangles`, built by Scene::finalize
     Aabb bounds;                      ///< object-space box of the triangles
 
-    BvhShapes shapes() const { return {.triangles = triangles}; }
+    BvhShapes shapes() const { return BvhShapes::of_arrays(triangles); }
 };
 
 }  // namespace spt

@@ -7,6 +7,7 @@
 #include "core/frame.h"
 #include "core/simd.h"
 #include "geometry/ray.h"
+#include "geometry/shape_array.h"
 
 namespace spt {
 
@@ -17,6 +18,14 @@ struct Plane {
     int light = -1;  ///< emitter attached to the plane (Scene::lights), −1 if none
     /// Tangents of the plane (u, v directions of its surface coordinates), set by set_frame().
     Vec3 tangent_u{1, 0, 0}, tangent_v{0, 0, 1};
+
+    static constexpr const char* kName = "plane";
+    /// What makes the plane unrenderable, or nullptr.
+    const char* defect() const {
+        if (!(is_finite(normal) && std::isfinite(offset))) return "plane must be finite";
+        if (!(std::fabs(length(normal) - 1.f) < 1e-4f)) return "plane normal must be unit length";
+        return nullptr;
+    }
 
     /// Sets the tangents from the normal (Frame's orthonormal basis).
     void set_frame();
@@ -76,6 +85,7 @@ struct Plane {
         u = dot(p, tangent_u);
         v = dot(p, tangent_v);
     }
+    Vec3 dpdu(const Vec3&) const { return tangent_u; }
 };
 
 inline void Plane::set_frame() {
@@ -83,5 +93,12 @@ inline void Plane::set_frame() {
     tangent_u = f.s;
     tangent_v = f.t;
 }
+
+template <>
+struct ShapeArray<Plane> {
+    std::vector<Plane> planes;
+    std::vector<Plane>& array() { return planes; }
+    const std::vector<Plane>& array() const { return planes; }
+};
 
 }  // namespace spt

@@ -1,5 +1,6 @@
 // Rays, hit records, and error-bounded spawning of rays from surfaces.
 #pragma once
+#include <bit>
 #include <cstdint>
 
 #include "core/vec3.h"
@@ -12,14 +13,16 @@ struct Ray {
     float t_max = kInfinity;
 };
 
-/// Which shape array a primitive index refers to. `moving`: Scene::moving_shapes; `instance`:
-/// a MeshInstance (a placed InstancedMesh), in the top level of the BVH only.
+/// Which shape array a primitive index refers to: the shape types of the set in the order of
+/// ShapeTypes (shape.h), then `moving`: Scene::moving_shapes; `instance`: a MeshInstance (a
+/// placed InstancedMesh), in the top level of the BVH only.
 enum class ShapeKind : unsigned char { sphere, plane, triangle, disk, cylinder, cone, moving, instance };
 
 /// A primitive of the scene: its shape kind and its index in that kind's array, in 32 bits
-/// (the BVH's primitive lists hold these too).
+/// (the BVH's primitive lists hold these too); the kind takes as few bits as ShapeKind needs.
 struct PrimId {
-    static constexpr int kIndexBits = 29;
+    static constexpr int kKindBits = std::bit_width(static_cast<unsigned>(ShapeKind::instance));
+    static constexpr int kIndexBits = 32 - kKindBits;
     std::uint32_t bits = ~0u;
 
     PrimId() = default;

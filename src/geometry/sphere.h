@@ -6,6 +6,7 @@
 
 #include "geometry/dvec3.h"
 #include "geometry/ray.h"
+#include "geometry/shape_array.h"
 #include "geometry/surface_sample.h"
 
 namespace spt {
@@ -27,6 +28,14 @@ struct Sphere {
     float radius = 1.f;
     int material = -1;
     int light = -1;  ///< emitter attached to the sphere (Scene::lights), −1 if none
+
+    static constexpr const char* kName = "sphere";
+    /// What makes the sphere unrenderable, or nullptr.
+    const char* defect() const {
+        if (!is_finite(center)) return "sphere centre must be finite";
+        if (!(std::isfinite(radius) && radius > 0.f)) return "sphere radius must be > 0 and finite";
+        return nullptr;
+    }
 
     /// Distance to the nearest hit with t > 0, or infinity when there is none.
     double intersect_t(const Ray& ray) const {
@@ -92,6 +101,15 @@ struct Sphere {
         const double theta = len > 0.0 ? std::acos(std::clamp(q.y / len, -1.0, 1.0)) : 0.0;
         v = std::min(static_cast<float>(theta / kPiDouble), 1.f);
     }
+    /// dp/du up to scale: the direction of growing φ about +y (u runs from +x towards +z).
+    Vec3 dpdu(const Vec3& p) const { return cross(Vec3{0, -1, 0}, p - center); }
+};
+
+template <>
+struct ShapeArray<Sphere> {
+    std::vector<Sphere> spheres;
+    std::vector<Sphere>& array() { return spheres; }
+    const std::vector<Sphere>& array() const { return spheres; }
 };
 
 }  // namespace spt

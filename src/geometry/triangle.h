@@ -10,6 +10,7 @@
 
 #include "geometry/dvec3.h"
 #include "geometry/ray.h"
+#include "geometry/shape_array.h"
 #include "geometry/surface_sample.h"
 
 namespace spt {
@@ -117,6 +118,15 @@ struct Triangle {
     /// are the barycentrics (b1, b2) and the shading normal is the geometric one.
     int attributes = -1;
 
+    static constexpr const char* kName = "triangle";
+    /// What makes the triangle unrenderable, or nullptr (its attributes index is the scene's
+    /// to check).
+    const char* defect() const {
+        if (!(is_finite(p0) && is_finite(p1) && is_finite(p2))) return "triangle vertices must be finite";
+        if (is_degenerate()) return "triangle has zero area (collinear or repeated vertices)";
+        return nullptr;
+    }
+
     /// Unnormalised geometric normal cross(p1 − p0, p2 − p0), in double.
     void cross_double(double out[3]) const {
         const double ax = double(p1.x) - p0.x, ay = double(p1.y) - p0.y, az = double(p1.z) - p0.z;
@@ -194,6 +204,14 @@ struct Triangle {
         u = static_cast<float>(std::clamp((d22 * w1 - d12 * w2) / det, 0.0, 1.0));
         v = static_cast<float>(std::clamp((d11 * w2 - d12 * w1) / det, 0.0, 1.0));
     }
+};
+
+template <>
+struct ShapeArray<Triangle> {
+    /// Triangles of meshes, quads and single triangles, in one flat array.
+    std::vector<Triangle> triangles;
+    std::vector<Triangle>& array() { return triangles; }
+    const std::vector<Triangle>& array() const { return triangles; }
 };
 
 }  // namespace spt

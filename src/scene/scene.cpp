@@ -111,34 +111,28 @@ int Scene::add_quad_emitter(const Vec3& o, const Vec3& e1, const Vec3& e2, Spect
 }
 
 void Scene::surface_uv(const Hit& hit, float& u, float& v) const {
-    const std::uint32_t i = hit.prim.index();
-    switch (hit.prim.kind()) {
-        case ShapeKind::sphere: return spheres[i].uv(hit.p, u, v);
-        case ShapeKind::plane: return planes[i].uv(hit.p, u, v);
-        case ShapeKind::disk: return disks[i].uv(hit.p, u, v);
-        case ShapeKind::cylinder: return cylinders[i].uv(hit.p, u, v);
-        case ShapeKind::cone: return cones[i].uv(hit.p, u, v);
-        case ShapeKind::moving: u = v = 0.f; return;  // its rest frame at the hit's time is gone
-        case ShapeKind::triangle: break;
-        case ShapeKind::instance: u = v = 0.f; return;  // not kept for instances (see scenes/README.md)
+    // Neither is kept: a moving shape's rest frame at the hit's time is gone, and instances
+    // keep no surface coordinates (see scenes/README.md).
+    if (hit.prim.kind() == ShapeKind::moving || hit.prim.kind() == ShapeKind::instance) {
+        u = v = 0.f;
+        return;
     }
-    triangle_uv(triangles[i], hit.p, u, v);
+    const std::uint32_t i = hit.prim.index();
+    visit_shape_kind(hit.prim.kind(), [&]<typename T>(std::type_identity<T>) {
+        if constexpr (std::is_same_v<T, Triangle>) triangle_uv(triangles[i], hit.p, u, v);
+        else shapes_of<T>()[i].uv(hit.p, u, v);
+    });
 }
 
 Vec3 Scene::surface_tangent(const Hit& hit) const {
+    // None kept for moving shapes and instances: the BSDF takes a fixed perpendicular.
+    if (hit.prim.kind() == ShapeKind::moving || hit.prim.kind() == ShapeKind::instance) return {};
     const std::uint32_t i = hit.prim.index();
-    // Around an axis: the direction of growing φ at p (the sphere's about +y).
-    auto around = [&](const Vec3& axis, const Vec3& centre) { return cross(axis, hit.p - centre); };
-    switch (hit.prim.kind()) {
-        case ShapeKind::sphere: return around({0, -1, 0}, spheres[i].center);  // u = φ/2π from +x to +z
-        case ShapeKind::plane: return planes[i].tangent_u;
-        case ShapeKind::disk: return around(disks[i].normal, disks[i].center);
-        case ShapeKind::cylinder: return around(cylinders[i].axis, cylinders[i].base);
-        case ShapeKind::cone: return around(cones[i].axis, cones[i].base);
-        case ShapeKind::triangle: break;
-        case ShapeKind::moving:
-        case ShapeKind::instance: return {};  // none kept: the BSDF takes a fixed perpendicular
-    }
+    if (hit.prim.kind() != ShapeKind::triangle)
+        return visit_shape_kind(hit.prim.kind(), [&]<typename T>(std::type_identity<T>) -> Vec3 {
+            if constexpr (std::is_same_v<T, Triangle>) return {};
+            else return shapes_of<T>()[i].dpdu(hit.p);
+        });
     const Triangle& t = triangles[i];
     const Vec3 e1 = t.p1 - t.p0, e2 = t.p2 - t.p0;
     if (t.attributes >= 0 && triangle_attributes[static_cast<std::size_t>(t.attributes)].has_uv) {
@@ -197,14 +191,10 @@ std::optional<Hit> Scene::intersect_bvh(const Ray& ray, double t_best, int best_
     if (m_bvh.intersect(ray, bvh_shapes(), t_best, h)) {
         if (h.instance != BvhHit::kNoInstance) [[unlikely]] return instance_hit(h);
         const auto i = h.prim.index();
-        switch (h.prim.kind()) {
-            case ShapeKind::triangle: return triangle_hit(triangles[i], h.tri);
-            case ShapeKind::disk: return with_prim(disks[i].make_hit(ray, t_best), ShapeKind::disk, i);
-            case ShapeKind::cylinder: return with_prim(cylinders[i].make_hit(ray, t_best), ShapeKind::cylinder, i);
-            case ShapeKind::cone: return with_prim(cones[i].make_hit(ray, t_best), ShapeKind::cone, i);
-            default: break;
-        }
-        return with_prim(spheres[i].make_hit(ray, t_best), ShapeKind::sphere, i);
+        return visit_shape_kind(h.prim.kind(), [&]<typename T>(std::type_identity<T>) -> Hit {
+            if constexpr (std::is_same_v<T, Triangle>) return triangle_hit(triangles[i], h.tri);
+            else return with_prim(shapes_of<T>()[i].make_hit(ray, t_best), shape_kind<T>, i);
+        });
     }
     if (best_plane >= 0) return with_prim(planes[best_plane].make_hit(ray, t_best), ShapeKind::plane, best_plane);
     return std::nullopt;
@@ -284,60 +274,33 @@ void Scene::validate_shapes() {
         require(index >= 0 && index < static_cast<int>(materials.size()),
                 who + " refers to a material that does not exist");
     };
-    auto check_sphere = [&](const Sphere& s) {
-        require(finite(s.center), "sphere centre must be finite");
-        require(std::isfinite(s.radius) && s.radius > 0.f, "sphere radius must be > 0 and finite");
-        check_material_index(s.material, "a sphere");
+    // Each shape's own defects (its contract's defect()), then its references into the scene.
+    auto check_shapes = [&]<typename T>(const std::vector<T>& shapes) {
+        for (const T& shape : shapes) {
+            if (const char* defect = shape.defect()) throw SceneError(defect);
+            if constexpr (std::is_same_v<T, Triangle>)
+                require(shape.attributes < static_cast<int>(triangle_attributes.size()),
+                        "a triangle refers to vertex attributes that do not exist");
+            check_material_index(shape.material, std::string("a ") + T::kName);
+        }
     };
-    auto check_triangle = [&](const Triangle& t) {
-        require(finite(t.p0) && finite(t.p1) && finite(t.p2), "triangle vertices must be finite");
-        require(!t.is_degenerate(), "triangle has zero area (collinear or repeated vertices)");
-        require(t.attributes < static_cast<int>(triangle_attributes.size()),
-                "a triangle refers to vertex attributes that do not exist");
-        check_material_index(t.material, "a triangle");
-    };
-    for (const Sphere& s : spheres) check_sphere(s);
-    for (const Triangle& t : triangles) check_triangle(t);
+    for (Plane& p : planes) p.set_frame();
+    for_each_array(check_shapes);
     for (MovingShape& m : moving_shapes) {
-        for (const Sphere& s : m.spheres) check_sphere(s), require(s.light < 0, "a moving shape cannot emit light");
-        for (const Triangle& t : m.triangles) check_triangle(t), require(t.light < 0, "a moving shape cannot emit light");
+        m.for_each_array([&]<typename T>(const std::vector<T>& shapes) {
+            require(kCanMove<T> || shapes.empty(), std::string("a ") + T::kName + " cannot move");
+            check_shapes(shapes);
+            for (const T& shape : shapes) require(shape.light < 0, "a moving shape cannot emit light");
+        });
         for (std::size_t k = 1; k < m.motion.keys.size(); ++k)
             require(m.motion.keys[k].time > m.motion.keys[k - 1].time, "motion keyframe times must increase");
         m.finish();
     }
-    for (Plane& p : planes) p.set_frame();
-    for (const Plane& p : planes) {
-        require(finite(p.normal) && std::isfinite(p.offset), "plane must be finite");
-        require(std::fabs(length(p.normal) - 1.f) < 1e-4f, "plane normal must be unit length");
-        check_material_index(p.material, "a plane");
-    }
-    auto check_axis = [&](const Vec3& v, const char* what) {
-        require(finite(v) && std::fabs(length(v) - 1.f) < 1e-4f, std::string(what) + " must be a unit vector");
-    };
-    auto check_size = [&](float x, const char* what) {
-        require(std::isfinite(x) && x > 0.f, std::string(what) + " must be > 0 and finite");
-    };
-    for (const Disk& d : disks) {
-        require(finite(d.center), "disk centre must be finite");
-        check_axis(d.normal, "disk normal"), check_size(d.radius, "disk radius");
-        check_material_index(d.material, "a disk");
-    }
-    for (const Cylinder& c : cylinders) {
-        require(finite(c.base), "cylinder base must be finite");
-        check_axis(c.axis, "cylinder axis"), check_size(c.radius, "cylinder radius");
-        check_size(c.height, "cylinder height");
-        check_material_index(c.material, "a cylinder");
-    }
-    for (const Cone& c : cones) {
-        require(finite(c.base), "cone base must be finite");
-        check_axis(c.axis, "cone axis"), check_size(c.radius, "cone radius"), check_size(c.height, "cone height");
-        check_material_index(c.material, "a cone");
-    }
     for (InstancedMesh& mesh : instanced_meshes) {
         require(!mesh.triangles.empty(), "an instanced mesh has no triangles");
         mesh.bounds = Aabb{};
+        check_shapes(mesh.triangles);
         for (const Triangle& t : mesh.triangles) {
-            check_triangle(t);
             require(t.light < 0, "an instanced mesh cannot emit light");
             mesh.bounds.expand(bounds(t));
         }
@@ -389,11 +352,15 @@ void Scene::build_acceleration() {
     }
 
     // Bounded shapes: a BVH once there are more than a handful (see kBvhThreshold), or any
-    // disk, cylinder or cone (the loop below the threshold knows spheres and triangles only).
+    // other bounded type (the loop below the threshold knows spheres and triangles only).
     m_bvh = Bvh{};
-    const bool quadrics = !disks.empty() || !cylinders.empty() || !cones.empty();
+    bool others = false;
+    for_each_array([&]<typename T>(const std::vector<T>& shapes) {
+        if constexpr (BoundedShape<T> && !std::is_same_v<T, Sphere> && !std::is_same_v<T, Triangle>)
+            others |= !shapes.empty();
+    });
     const auto bvh_start = std::chrono::steady_clock::now();
-    if (spheres.size() + triangles.size() > kBvhThreshold || quadrics || !instances.empty()) m_bvh.build(bvh_shapes());
+    if (spheres.size() + triangles.size() > kBvhThreshold || others || !instances.empty()) m_bvh.build(bvh_shapes());
     bvh_build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - bvh_start).count();
     m_use_bvh = !m_bvh.empty();
     m_out_of_line = m_use_bvh || !moving_shapes.empty();
@@ -483,10 +450,8 @@ void Scene::finalize_media() {
         require(interface_material < 0, "a shape without a surface bounds no medium");
         return;
     }
-    // In the order of ShapeKind.
-    const std::size_t counts[6] = {spheres.size(), planes.size(), triangles.size(), disks.size(), cylinders.size(),
-                                   cones.size()};
-    for (std::size_t kind = 0; kind < 6; ++kind) {
+    const auto counts = shape_counts();
+    for (std::size_t kind = 0; kind < kShapeTypeCount; ++kind) {
         require(shape_media[kind].size() == counts[kind], "every shape needs its medium interface");
         for (const MediumInterface& mi : shape_media[kind])
             require(mi.interior >= -1 && mi.interior < n && mi.exterior >= -1 && mi.exterior < n,
@@ -498,17 +463,12 @@ void Scene::finalize_lights() {
     // The bounding sphere of what light subpaths from the environment should reach, and of
     // the disk an infinite plane's selection power is measured over.
     Aabb box;
-    for (const Sphere& s : spheres) {
-        const Vec3 r(s.radius, s.radius, s.radius);
-        box.expand(s.center - r);
-        box.expand(s.center + r);
-    }
-    for (const Triangle& t : triangles) box.expand(t.p0), box.expand(t.p1), box.expand(t.p2);
+    for_each_array([&]<typename T>(const std::vector<T>& shapes) {
+        if constexpr (BoundedShape<T>)
+            for (const T& shape : shapes) box.expand(extent_box(shape));
+    });
     for (const MovingShape& m : moving_shapes) box.expand(m.swept);
     for (const MeshInstance& i : instances) box.expand(i.world_bounds);
-    for (const Disk& d : disks) box.expand(bounds(d));
-    for (const Cylinder& c : cylinders) box.expand(bounds(c));
-    for (const Cone& c : cones) box.expand(bounds(c));
     for (const Light& l : lights)
         if (const PointLight* p = std::get_if<PointLight>(&l)) {
             box.expand(p->position);

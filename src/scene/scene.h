@@ -1,4 +1,5 @@
-// A renderable scene: camera, shapes in flat typed arrays, materials by index, lights.
+// A renderable scene: camera, shapes in one flat array per type of the set (geometry/shape.h),
+// materials by index, lights.
 #pragma once
 #include <array>
 #include <memory>
@@ -9,15 +10,10 @@
 
 #include "geometry/axis_planes.h"
 #include "geometry/bvh.h"
-#include "geometry/cone.h"
-#include "geometry/cylinder.h"
-#include "geometry/disk.h"
 #include "geometry/moving_shape.h"
 #include "geometry/instanced_mesh.h"
-#include "geometry/plane.h"
-#include "geometry/sphere.h"
+#include "geometry/shape.h"
 #include "geometry/sphere_lanes.h"
-#include "geometry/triangle.h"
 #include "model/camera.h"
 #include "model/lights/light.h"
 #include "model/lights/light_distribution.h"
@@ -59,7 +55,9 @@ struct ShadowSkip {
     int planar_light = -1;
 };
 
-struct Scene {
+/// The shapes are the arrays of ShapeArrays (spheres, planes, triangles, disks, cylinders,
+/// cones: one per type of the set).
+struct Scene : ShapeArrays {
     std::string name;
     /// One line for --list-scenes: the file's "summary", else the first sentence of its
     /// "description" (empty when it has neither).
@@ -73,13 +71,6 @@ struct Scene {
     double bvh_build_seconds = 0;  ///< time finalize() spent building the BVH (0: none)
 
     std::vector<Material> materials;
-    std::vector<Sphere> spheres;
-    std::vector<Plane> planes;
-    std::vector<Disk> disks;
-    std::vector<Cylinder> cylinders;
-    std::vector<Cone> cones;
-    /// Triangles of meshes, quads and single triangles, in one flat array.
-    std::vector<Triangle> triangles;
     /// Vertex normals and (u, v) of mesh triangles (Triangle::attributes indexes it).
     std::vector<TriangleAttributes> triangle_attributes;
     /// Meshes placed by `instances` (a two-level BVH): each mesh's triangles are stored once,
@@ -102,10 +93,15 @@ struct Scene {
     /// through them), −1 for none.
     std::vector<Medium> media;
     int camera_medium = -1;
-    std::array<std::vector<MediumInterface>, 6> shape_media;
+    std::array<std::vector<MediumInterface>, kShapeTypeCount> shape_media;
     int interface_material = -1;
     MediumInterface medium_interface(PrimId prim) const {
         return shape_media[static_cast<std::size_t>(prim.kind())][prim.index()];
+    }
+    /// Gives `sides` to every shape that has no medium interface yet (the ones just added).
+    void extend_shape_media(const MediumInterface& sides) {
+        const auto counts = shape_counts();
+        for (std::size_t k = 0; k < kShapeTypeCount; ++k) shape_media[k].resize(counts[k], sides);
     }
 
     /// Textures that material parameters (Material::textures) and emitters (light_textures)
@@ -240,10 +236,15 @@ struct Scene {
         return occluded_few(ray, skip);
     }
 
-    /// Makes the spheres from index `first_sphere` on and the triangles from `first_triangle`
-    /// on (the shapes the loader just added) one moving shape with `motion`: they leave the
-    /// static arrays. Call before finalize().
-    void make_moving(std::size_t first_sphere, std::size_t first_triangle, RigidMotion motion);
+    /// Makes the shapes from `first` on (shape_counts() before the loader added them) one
+    /// moving shape with `motion`: they leave the static arrays. Call before finalize().
+    void make_moving(const ShapeCounts& first, RigidMotion motion);
+    /// Whether every shape from `first` on can move (kCanMove: not a plane).
+    bool can_move_since(const ShapeCounts& first) const;
+    /// Whether a shape from `first` on emits light (moving emitters are not supported).
+    bool emits_since(const ShapeCounts& first) const;
+    /// The box of the shapes from `first` on whose centre is their motion's default pivot.
+    Aabb pivot_box_since(const ShapeCounts& first) const;
 
 private:
     /// The rest of intersect() without a BVH and moving shapes: spheres and triangles in
@@ -288,20 +289,22 @@ private:
     /// Moving shape i at `time`: its nearest hit before t_max, in world space.
     std::optional<Hit> intersect_moving(std::size_t i, const Ray& ray, float time, double t_max) const;
     BvhShapes bvh_shapes() const {
-        return {spheres, triangles, disks, cylinders, cones, instances, instanced_meshes.data()};
+        BvhShapes shapes = BvhShapes::of_all(*this);
+        shapes.instances = instances, shapes.meshes = instanced_meshes.data();
+        return shapes;
     }
     /// Calls f with each array of shapes (every shape has a material and a light).
     template <typename F>
     void for_each_shape_array(F&& f) {
-        f(spheres), f(planes), f(disks), f(cylinders), f(cones), f(triangles);
+        for_each_array(f);
         for (InstancedMesh& m : instanced_meshes) f(m.triangles);
-        for (MovingShape& m : moving_shapes) f(m.spheres), f(m.triangles);
+        for (MovingShape& m : moving_shapes) m.for_each_array(f);
     }
     template <typename F>
     void for_each_shape_array(F&& f) const {
-        f(spheres), f(planes), f(disks), f(cylinders), f(cones), f(triangles);
+        for_each_array(f);
         for (const InstancedMesh& m : instanced_meshes) f(m.triangles);
-        for (const MovingShape& m : moving_shapes) f(m.spheres), f(m.triangles);
+        for (const MovingShape& m : moving_shapes) m.for_each_array(f);
     }
     /// The hit record of a triangle: its primitive, and its shading normal on meshes with
     /// vertex normals.

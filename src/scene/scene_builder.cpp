@@ -535,9 +535,7 @@ private:
         MediumInterface mi{-1, m_scene.camera_medium};
         if (in) mi.interior = medium_ref(*in, "interior");
         if (out) mi.exterior = medium_ref(*out, "exterior");
-        const std::size_t counts[6] = {m_scene.spheres.size(), m_scene.planes.size(), m_scene.triangles.size(),
-                                       m_scene.disks.size(), m_scene.cylinders.size(), m_scene.cones.size()};
-        for (std::size_t k = 0; k < 6; ++k) m_scene.shape_media[k].resize(counts[k], mi);
+        m_scene.extend_shape_media(mi);
     }
 
     /// The material of shapes without a surface (made once).
@@ -558,28 +556,17 @@ private:
         const std::string& type = string(required(v, "type", "shape " + index), "shape " + index + " type");
         const std::string what = type + " (shape " + index + ")";
         const ParamValue* motion_key = v.find("motion");
-        if (motion_key && type != "sphere" && type != "quad" && type != "triangle" && type != "mesh")
-            fail(motion_key->pos(), what + " cannot move; expected \"motion\" on a sphere, quad, triangle or mesh");
-        const std::size_t first_sphere = m_scene.spheres.size(), first_triangle = m_scene.triangles.size();
+        const ShapeCounts first = m_scene.shape_counts();
         shape_of_type(v, type, what);
-        if (motion_key) make_moving(*motion_key, what, first_sphere, first_triangle);
+        if (motion_key) make_moving(*motion_key, what, first);
     }
 
-    /// The shapes just added (from first_sphere and first_triangle on) become one moving shape.
-    void make_moving(const ParamValue& motion_key, const std::string& what, std::size_t first_sphere,
-                     std::size_t first_triangle) {
-        Aabb rest;
-        for (std::size_t i = first_sphere; i < m_scene.spheres.size(); ++i) {
-            const Sphere& s = m_scene.spheres[i];
-            if (s.light >= 0) fail(motion_key.pos(), what + " emits light and moves; expected a shape without emission to move (moving emitters are not supported)");
-            rest.expand(s.center - Vec3(s.radius, s.radius, s.radius)), rest.expand(s.center + Vec3(s.radius, s.radius, s.radius));
-        }
-        for (std::size_t i = first_triangle; i < m_scene.triangles.size(); ++i) {
-            const Triangle& t = m_scene.triangles[i];
-            if (t.light >= 0) fail(motion_key.pos(), what + " emits light and moves; expected a shape without emission to move (moving emitters are not supported)");
-            rest.expand(t.p0), rest.expand(t.p1), rest.expand(t.p2);
-        }
-        m_scene.make_moving(first_sphere, first_triangle, motion(motion_key, what, rest.centroid()));
+    /// The shapes just added (from `first` on) become one moving shape.
+    void make_moving(const ParamValue& motion_key, const std::string& what, const ShapeCounts& first) {
+        if (!m_scene.can_move_since(first))
+            fail(motion_key.pos(), what + " cannot move; expected \"motion\" on a bounded shape (not a plane)");
+        if (m_scene.emits_since(first)) fail(motion_key.pos(), what + " emits light and moves; expected a shape without emission to move (moving emitters are not supported)");
+        m_scene.make_moving(first, motion(motion_key, what, m_scene.pivot_box_since(first).centroid()));
     }
 
     void shape_of_type(const ParamValue& v, const std::string& type, const std::string& what) {
@@ -594,7 +581,7 @@ private:
             s.light = surface.light;
             m_scene.spheres.push_back(s);
         } else if (type == "plane") {
-            check_keys(v, what, {"type", "normal", "point", "material", "emission", "interior", "exterior"});
+            check_keys(v, what, {"type", "normal", "point", "material", "emission", "motion", "interior", "exterior"});
             const ParamValue& nv = required(v, "normal", what);
             const Vec3 n = normalize(direction(nv, what + " normal"));
             const Vec3 p = point(required(v, "point", what), what + " point");
@@ -706,7 +693,7 @@ private:
                     m_scene.instances.emplace_back(mesh_index, transform(&item));
             }
         } else if (type == "disk") {
-            check_keys(v, what, {"type", "center", "normal", "radius", "material", "emission", "interior", "exterior"});
+            check_keys(v, what, {"type", "center", "normal", "radius", "material", "emission", "motion", "interior", "exterior"});
             Disk d;
             d.center = point(required(v, "center", what), what + " center");
             d.normal = unit_direction(required(v, "normal", what), what + " normal");
@@ -715,7 +702,7 @@ private:
             d.material = surface.material, d.light = surface.light;
             m_scene.disks.push_back(d);
         } else if (type == "cylinder" || type == "cone") {
-            check_keys(v, what, {"type", "base", "axis", "radius", "height", "material", "emission", "interior", "exterior"});
+            check_keys(v, what, {"type", "base", "axis", "radius", "height", "material", "emission", "motion", "interior", "exterior"});
             const Vec3 base = point(required(v, "base", what), what + " base");
             const Vec3 axis = unit_direction(required(v, "axis", what), what + " axis");
             const float radius = positive_size(v, "radius", what), height = positive_size(v, "height", what);

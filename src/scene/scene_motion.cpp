@@ -31,16 +31,40 @@ Hit hit_to_world(const Hit& rest, const RigidTransform& xf) {
 
 }  // namespace
 
-void Scene::make_moving(std::size_t first_sphere, std::size_t first_triangle, RigidMotion motion) {
+void Scene::make_moving(const ShapeCounts& first, RigidMotion motion) {
     MovingShape shape;
     shape.motion = std::move(motion);
-    const auto sphere_begin = spheres.begin() + static_cast<std::ptrdiff_t>(first_sphere);
-    const auto triangle_begin = triangles.begin() + static_cast<std::ptrdiff_t>(first_triangle);
-    shape.spheres.assign(sphere_begin, spheres.end());
-    shape.triangles.assign(triangle_begin, triangles.end());
-    spheres.erase(sphere_begin, spheres.end());
-    triangles.erase(triangle_begin, triangles.end());
+    for_each_array([&]<typename T>(std::vector<T>& all) {
+        const auto begin = all.begin() + static_cast<std::ptrdiff_t>(first[std::size_t(shape_kind<T>)]);
+        shape.shapes_of<T>().assign(begin, all.end());
+        all.erase(begin, all.end());
+    });
     moving_shapes.push_back(std::move(shape));
+}
+
+bool Scene::can_move_since(const ShapeCounts& first) const {
+    bool can = true;
+    for_each_array([&]<typename T>(const std::vector<T>& all) {
+        if constexpr (!kCanMove<T>) can &= all.size() == first[std::size_t(shape_kind<T>)];
+    });
+    return can;
+}
+
+bool Scene::emits_since(const ShapeCounts& first) const {
+    bool emits = false;
+    for_each_array([&]<typename T>(const std::vector<T>& all) {
+        for (std::size_t i = first[std::size_t(shape_kind<T>)]; i < all.size(); ++i) emits |= all[i].light >= 0;
+    });
+    return emits;
+}
+
+Aabb Scene::pivot_box_since(const ShapeCounts& first) const {
+    Aabb box;
+    for_each_array([&]<typename T>(const std::vector<T>& all) {
+        if constexpr (kCanMove<T>)
+            for (std::size_t i = first[std::size_t(shape_kind<T>)]; i < all.size(); ++i) box.expand(extent_box(all[i]));
+    });
+    return box;
 }
 
 std::optional<Hit> Scene::intersect_moving(std::size_t i, const Ray& ray, float time, double t_max) const {
@@ -52,26 +76,32 @@ std::optional<Hit> Scene::intersect_moving(std::size_t i, const Ray& ray, float 
     // The rotation keeps lengths: t is the same along the rest-frame ray.
     const Ray rest{xf.inverse_point(ray.o), xf.inverse_vector(ray.d), ray.t_max};
     double t_best = t_max;
-    std::optional<Hit> hit;
+    PrimId best;
+    TriangleIntersection best_ti{};
     if (!m.bvh.empty()) {
         BvhHit h;
         if (!m.bvh.intersect(rest, m.shapes(), t_best, h)) return std::nullopt;
-        const auto k = h.prim.index();
-        hit = h.prim.kind() == ShapeKind::triangle ? triangle_hit(m.triangles[k], h.tri)
-                                                   : m.spheres[k].make_hit(rest, t_best);
+        best = h.prim, best_ti = h.tri;
     } else {
-        const Sphere* best_sphere = nullptr;
-        for (const Sphere& s : m.spheres)
-            if (const double t = s.intersect_t(rest); t < t_best) t_best = t, best_sphere = &s;
-        const Triangle* best_triangle = nullptr;
-        TriangleIntersection best_ti{};
-        for (const Triangle& tri : m.triangles)
-            if (auto ti = tri.intersect(rest, t_best)) t_best = ti->t, best_triangle = &tri, best_ti = *ti;
-        if (best_triangle) hit = triangle_hit(*best_triangle, best_ti);
-        else if (best_sphere) hit = best_sphere->make_hit(rest, t_best);
-        else return std::nullopt;
+        // Candidates by distance only, in the order of the shape types.
+        m.for_each_array([&]<typename T>(const std::vector<T>& shapes) {
+            for (std::size_t k = 0; k < shapes.size(); ++k) {
+                if constexpr (std::is_same_v<T, Triangle>) {
+                    if (auto ti = shapes[k].intersect(rest, t_best))
+                        t_best = ti->t, best = PrimId(shape_kind<T>, std::uint32_t(k)), best_ti = *ti;
+                } else if (const double t = shapes[k].intersect_t(rest); t < t_best) {
+                    t_best = t, best = PrimId(shape_kind<T>, std::uint32_t(k));
+                }
+            }
+        });
+        if (!best.valid()) return std::nullopt;
     }
-    Hit world = hit_to_world(*hit, xf);
+    const std::uint32_t k = best.index();
+    const Hit hit = visit_shape_kind(best.kind(), [&]<typename T>(std::type_identity<T>) -> Hit {
+        if constexpr (std::is_same_v<T, Triangle>) return triangle_hit(m.triangles[k], best_ti);
+        else return m.shapes_of<T>()[k].make_hit(rest, t_best);
+    });
+    Hit world = hit_to_world(hit, xf);
     world.prim = PrimId(ShapeKind::moving, static_cast<std::uint32_t>(i));
     return world;
 }

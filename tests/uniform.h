@@ -1,5 +1,6 @@
-// Random configurations over many scales for the geometry robustness tests: uniform numbers
-// from a fixed-seed 64-bit Mersenne Twister, magnitudes 10^U(lo, hi) with random signs.
+// The tests' uniform random numbers: a fixed-seed 64-bit Mersenne Twister giving floats with 24
+// random bits and doubles with 53, and for the geometry robustness tests magnitudes
+// 10^U(lo, hi) with random signs.
 #pragma once
 #include <cmath>
 #include <cstdint>
@@ -12,7 +13,11 @@ namespace spt_test {
 class Uniform {
 public:
     explicit Uniform(std::uint64_t seed) : m_gen(seed) {}
-    double next() { return static_cast<double>(m_gen() >> 11) * 0x1p-53; }
+    /// Float in [0, 1) with 24 random bits (every value exactly representable).
+    float next_float() { return static_cast<float>(m_gen() >> 40) * 0x1p-24f; }
+    /// Double in [0, 1) with 53 random bits.
+    double next_double() { return static_cast<double>(m_gen() >> 11) * 0x1p-53; }
+    double next() { return next_double(); }
     /// 10^U(lo, hi)
     double log_uniform(double lo, double hi) { return std::pow(10.0, lo + (hi - lo) * next()); }
     double sign() { return next() < 0.5 ? -1.0 : 1.0; }
