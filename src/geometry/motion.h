@@ -81,8 +81,8 @@ struct RigidMotion {
     bool is_static() const { return keys.size() < 2; }
 
     /// The transform at time t (clamped to the first and last keyframes). Out of line: the
-    /// slerp inlined into a static scene's light loop made GCC stop inlining the shadow ray's
-    /// offset there (2 % more instructions per path on cornell-point).
+    /// slerp inlined into a static scene's light loop makes GCC stop inlining the shadow ray's
+    /// offset there.
     [[gnu::noinline]] RigidTransform at(float t) const {
         if (keys.empty()) return {Quaternion{}, pivot, Vec3(0, 0, 0)};
         if (t <= keys.front().time) return {keys.front().rotation, pivot, keys.front().translation};

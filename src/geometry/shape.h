@@ -1,7 +1,8 @@
 // The closed set of shapes and the one contract every type in it fulfils. Adding a type is
 // one header in this folder (the shape and its ShapeArray, see shape_array.h), its kind in
 // ShapeKind (ray.h) and one entry in ShapeTypes; the scene's arrays, the medium table, the
-// primitive ids and the loops over every shape follow from the list.
+// primitive ids, the BVH, motion, validation and the loops over every shape follow from the
+// list (docs/DESIGN.md, "How to add a shape").
 //
 // Conventions: rays have unit directions; distances are doubles (the tests run in double and
 // only the winner's hit record is built); points and normals of records are floats with a
@@ -28,6 +29,9 @@
 ///  area(), sample_area(u1, u2)   the surface area and a point drawn uniformly by area (its
 ///                                density 1 / area()), with its error bound and unit normal
 ///                                (area lights sample their shapes through it); not for Plane.
+///  kName, defect()               the type's name for messages, and what makes a shape of it
+///                                unrenderable (non-finite or non-positive values), or nullptr:
+///                                Scene::finalize checks every shape, static or moving, by it.
 ///
 /// Every type with bounds can move (kCanMove, moving_shape.h; the loader refuses "motion" on a
 /// plane with a message). Instances place meshes only (InstancedMesh holds triangles;

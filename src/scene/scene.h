@@ -193,8 +193,8 @@ struct Scene : ShapeArrays {
     /// for measuring its cost), then finalizes again.
     void disable_dispersion();
 
-    /// Scenes with at most this many spheres and triangles test them in a loop: for a
-    /// Cornell box's two spheres the loop is cheaper than any tree.
+    /// Scenes with at most this many spheres and triangles test them in a loop: for a few
+    /// spheres and a quad the loop is cheaper than any tree.
     static constexpr std::size_t kBvhThreshold = 8;
     /// True when finalize() built a BVH (intersect and occluded use it).
     bool uses_bvh() const { return m_use_bvh; }
@@ -218,9 +218,8 @@ struct Scene : ShapeArrays {
     /// True if anything blocks the ray before ray.t_max (shadow rays; glass is opaque to them),
     /// the moving shapes where they are at `time`. In scenes without a BVH the shapes `skip`
     /// names are not tested (a light's own shape that cannot occlude the point sampled on it:
-    /// the exact test of the sphere was 9 % of the time per path on cornell-sphere, of a
-    /// quad's two triangles 30 % of next-event estimation's instructions on cornell-quad);
-    /// with a BVH every shape is tested.
+    /// the exact test of an emitting sphere or of a quad light's two triangles is a large part
+    /// of next-event estimation in small scenes); with a BVH every shape is tested.
     bool occluded(const Ray& ray, ShadowSkip skip = {}, float time = 0.f) const {
         if (m_axis_planes.any_hit(ray)) return true;
         for (int i : m_general_planes)
@@ -248,7 +247,7 @@ struct Scene : ShapeArrays {
 
 private:
     /// The rest of intersect() without a BVH and moving shapes: spheres and triangles in
-    /// lanes (a Cornell box's few), given the nearest plane so far.
+    /// lanes (a small scene's few), given the nearest plane so far.
     [[gnu::always_inline]] std::optional<Hit> intersect_few(const Ray& ray, double t_best, int best_plane) const {
         const Sphere* best_sphere = nullptr;
         m_sphere_lanes.candidates(ray, [&](int i) {
