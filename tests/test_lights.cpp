@@ -184,8 +184,8 @@ TEST(SphereLight, SmallAndFarSphereKeepsItsDensity) {
     const Vec3 c(0, 1e4f, 0);
     const Scene scene = sphere_light_scene(c, 1.f, 1.0);
     const LightSampleContext ctx = context({0, 0, 0}, {0, 1, 0});
-    const spt::SphereLight& light = std::get<spt::SphereLight>(scene.lights[0]);
-    const auto ls = light.sample_li(ctx, wavelengths(), 0.5f, 0.25f);
+    ASSERT_TRUE(std::holds_alternative<spt::SphereLight>(scene.lights[0]));
+    const auto ls = spt::light_sample_li(scene.lights[0], ctx, wavelengths(), 0.5f, 0.25f);
     ASSERT_TRUE(ls.has_value());
     const double solid_angle = 2 * kPi * (1 - std::sqrt(1 - 1e-8));
     EXPECT_NEAR(ls->pdf * solid_angle, 1.0, 1e-4);

@@ -60,10 +60,14 @@ float remap0(float x) { return x != 0.f ? x : 1.f; }
 /// Whether v scatters light on (a BSDF or a phase function): a surface or medium vertex.
 bool scatters(const Vertex& v) { return v.type == VertexType::surface || v.type == VertexType::medium; }
 
-/// The spot light a light origin is, or nullptr.
-const SpotLight* spot_of(const Scene& scene, const Vertex& light) {
-    return light.hit.light >= 0 ? std::get_if<SpotLight>(&scene.lights[static_cast<std::size_t>(light.hit.light)])
-                                : nullptr;
+/// The light of a light origin or emitter vertex, or nullptr.
+const Light* light_of(const Scene& scene, const Vertex& light) {
+    return light.hit.light >= 0 ? &scene.lights[static_cast<std::size_t>(light.hit.light)] : nullptr;
+}
+/// The delta-position light (point, spot) a light origin is, or nullptr.
+const Light* delta_position_light_of(const Scene& scene, const Vertex& light) {
+    const Light* l = light_of(scene, light);
+    return l && light_type(*l) == LightType::delta_position ? l : nullptr;
 }
 
 class Bdpt {
@@ -275,9 +279,11 @@ float Bdpt::light_direction_pdf(const Vertex& light, const Vertex& next) const {
     if (light.infinite)  // the disk point on the ray that reaches `next`
         return convert_density(m_ctx.lights.environment_position_pdf(next.p(), -light.dir), light, next);
     const Vec3 w = normalize(next.p() - light.p());
-    float pdf_dir = light.on_surface() ? two_sided_direction_pdf(light.hit.n, w) : 1.f / (4.f * kPi);
-    if (const SpotLight* spot = spot_of(m_scene, light))  // uniform over its cone
-        pdf_dir = dot(w, spot->direction) >= spot->cos_cone ? 1.f / (2.f * kPi * (1.f - spot->cos_cone)) : 0.f;
+    const Light* l = light_of(m_scene, light);
+    // An emitter that starts no subpath (the infinite plane) still answers as a two-sided
+    // area emitter: the MIS weights ask for the density of its reverse direction.
+    const float pdf_dir = l && light_can_start_subpath(*l) ? light_pdf_le_dir(*l, light.hit.n, w)
+                                                           : two_sided_direction_pdf(light.hit.n, w);
     return convert_density(pdf_dir, light, next);
 }
 
@@ -471,8 +477,9 @@ void Bdpt::trace_light() {
     v.hit.n = o->n;
     v.hit.light = o->light;
     v.beta = o->Le / o->pdf_pos;
-    // A spot's falloff belongs to each direction (Le has the sampled one's): s = 1 applies it.
-    if (const SpotLight* spot = spot_of(m_scene, v)) v.beta = spot->intensity.sample(lambda_light) / o->pdf_pos;
+    // A delta-position light's falloff belongs to each direction (Le has the sampled one's):
+    // s = 1 applies it.
+    if (const Light* l = delta_position_light_of(m_scene, v)) v.beta = light_I_max(*l, lambda_light) / o->pdf_pos;
     v.pdf_fwd = o->pdf_pos;
     v.delta_light = o->delta_position;
     m_light.push_back(v);
@@ -604,7 +611,7 @@ SampledSpectrum Bdpt::connect() {
             if (scatters(qs))
                 c *= f_cos(qs, -w_pt, lw, Transport::importance) * shading_correction(qs.hit, qs.wo, -w_pt);
             else if (qs.on_surface()) c *= std::fabs(dot(qs.hit.n, w_pt));  // an area light's origin
-            else if (const SpotLight* spot = spot_of(m_scene, qs)) c *= spot->falloff(-w_pt);
+            else if (const Light* l = delta_position_light_of(m_scene, qs)) c *= light_falloff(*l, -w_pt);
             if (c.is_zero() || (!m_media && !visible(pt, qs))) continue;
             accumulate(c * mis_weight(s, t, tr.T[0]), terminated);
         }

@@ -47,63 +47,22 @@
 
 namespace spt {
 
-/// The cap of sphere light s that sphere `sphere` (index in Scene::spheres: the glass ball,
-/// or the ball of the reflection chain) can see: the points whose outward normal has
-/// z ≥ z_min about the axis from the light's centre to the ball's (area 2πr²(1 − z_min)).
-struct VisibleCap {
-    Vec3 axis;   ///< glass centre − light centre
-    float dist;  ///< |axis|
-    float z_min;
-    float area_pdf(float r) const { return 1.f / (2.f * kPi * r * r * (1.f - z_min)); }
-};
-inline VisibleCap visible_cap(const Scene& scene, int sphere, const SphereLight& s) {
-    const Sphere& glass = scene.spheres[static_cast<std::size_t>(sphere)];
-    const Vec3 axis = glass.center - s.sphere.center;
-    const float dist = length(axis);
-    return {axis, dist, std::max(-1.f, (s.sphere.radius - glass.radius) / dist)};
-}
-
 /// The density per unit area with which the strategy samples y on light `index` for sphere
 /// `sphere` (index in Scene::spheres; 0 when the light is not one it samples by area, or y is
-/// outside its cap).
+/// outside the part of it the ball can see): the light's pdf_area_facing.
 inline float caustic_light_area_pdf(const Scene& scene, int sphere, int index, const Vec3& y) {
-    const Light& light = scene.lights[static_cast<std::size_t>(index)];
-    if (const QuadLight* q = std::get_if<QuadLight>(&light)) return 1.f / q->area();
-    if (const SphereLight* s = std::get_if<SphereLight>(&light)) {
-        const VisibleCap cap = visible_cap(scene, sphere, *s);
-        const float r = s->sphere.radius;
-        const float z = dot(y - s->sphere.center, cap.axis) / (cap.dist * r);
-        if (z < cap.z_min) return 0.f;
-        return cap.area_pdf(r);
-    }
-    return 0.f;
+    const Sphere& ball = scene.spheres[static_cast<std::size_t>(sphere)];
+    return light_pdf_area_facing(scene.lights[static_cast<std::size_t>(index)], ball.center, ball.radius, y);
 }
 
 /// A point y on light `index` sampled by area for sphere `sphere` (index in Scene::spheres),
-/// with its normal and density; false when the light is not one the strategy samples.
+/// with its normal and density (the light's sample_area_facing); false when the light is not
+/// one the strategy samples.
 inline bool caustic_light_sample(const Scene& scene, int sphere, int index, float u1, float u2, Vec3& y,
                                  Vec3& n, float& pdf_area) {
-    const Light& light = scene.lights[static_cast<std::size_t>(index)];
-    if (const QuadLight* q = std::get_if<QuadLight>(&light)) {
-        y = q->o + q->e1 * u1 + q->e2 * u2;
-        n = q->n;
-        pdf_area = 1.f / q->area();
-        return true;
-    }
-    if (const SphereLight* s = std::get_if<SphereLight>(&light)) {
-        const VisibleCap cap = visible_cap(scene, sphere, *s);
-        const float r = s->sphere.radius;
-        // Uniform over the cap.
-        const float z = 1.f - u1 * (1.f - cap.z_min);
-        const float sz = std::sqrt(std::max(0.f, 1.f - z * z));
-        const float phi = 2.f * kPi * u2;
-        const Frame f(cap.axis / cap.dist);
-        n = f.to_world(Vec3(sz * std::cos(phi), sz * std::sin(phi), z));
-        y = s->sphere.center + n * r;
-        pdf_area = cap.area_pdf(r);
-        return true;
-    }
-    return false;
+    const Sphere& ball = scene.spheres[static_cast<std::size_t>(sphere)];
+    return light_sample_area_facing(scene.lights[static_cast<std::size_t>(index)], ball.center, ball.radius, u1, u2,
+                                    y, n, pdf_area);
 }
 
 /// The shadow test of the segment a → b over its interior (1e-4 of its length off each end).
@@ -121,7 +80,7 @@ struct ChainLightSample {
     Vec3 y, n_y;
     float p_choice = 0.f;  ///< P_s·P_l·p_A(y): the strategy's density per unit area at y
     int light = -1;
-    bool sphere_light = false;
+    bool closed_light = false;  ///< seen from outside, only its outside (a sphere)
     int n = 0;
     SphereChainRoot roots[SphereChain::kMaxRoots];
 };
@@ -138,16 +97,16 @@ inline bool sample_chain_light(const Scene& scene, int sphere_index, const Spher
     if (!caustic_light_sample(scene, sphere_index, light, u1, u2, out.y, out.n_y, pdf_area)) return false;
     const SphereChain chain(DVec3(x), DVec3(ball.center), ball.radius, nodes, DVec3(out.y));
     out.n = chain.solve(out.roots);
-    out.sphere_light = std::holds_alternative<SphereLight>(scene.lights[static_cast<std::size_t>(light)]);
+    out.closed_light = light_is_closed(scene.lights[static_cast<std::size_t>(light)]);
     out.p_choice = choice * pdf_area * p_sphere;
     return out.n > 0;
 }
 
 /// |dω_x/dA_y| of root r at the sampled light point, 0 when it cannot contribute (a sphere
-/// light emits from its outside only, so it must face the arriving ray).
+/// closed light is seen from its outside only, so it must face the arriving ray).
 inline float chain_root_area_density(const ChainLightSample& s, const SphereChainRoot& r, CausticNeeBug bug) {
     const float cos_y_signed = dot(s.n_y, r.w_exit.to_float());
-    if (s.sphere_light && !(cos_y_signed < 0.f)) return 0.f;
+    if (s.closed_light && !(cos_y_signed < 0.f)) return 0.f;
     const float cos_y = bug == CausticNeeBug::no_cos_y ? 1.f : std::fabs(cos_y_signed);
     const float dw_dA = static_cast<float>(r.dw_dAperp) * cos_y;
     return dw_dA > 0.f && std::isfinite(dw_dA) ? dw_dA : 0.f;

@@ -16,47 +16,31 @@
 
 namespace spt {
 
-/// A point light's shadow ray from a hit, with f·|cos| towards it and the squared distance.
-struct PointLightRay {
+/// A delta-position light's shadow ray from a hit and what it adds through it when clear:
+/// f·|cos| times the intensity I_max·falloff along the way out, over r².
+struct DeltaLightRay {
     Ray shadow;
-    SampledSpectrum f_cos;
-    float dist2;
+    SampledSpectrum contribution;
 };
 
-/// nullopt when the light cannot contribute (on the surface itself, or f·|cos| = 0).
-[[gnu::always_inline]] inline std::optional<PointLightRay> point_light_ray(const PointLight& light, const Bsdf& bsdf,
+/// nullopt when the light cannot contribute (on the surface itself, outside its falloff,
+/// or f·|cos| = 0).
+[[gnu::always_inline]] inline std::optional<DeltaLightRay> delta_light_ray(const Light& delta_light, const Bsdf& bsdf,
                                                                            const Hit& hit, const Vec3& wo,
                                                                            const SampledWavelengths& lambda,
                                                                            float time) {
-    const Vec3 position = light.position_at(time);
-    const Vec3 to_light = position - hit.p;
-    const float dist2 = length_squared(to_light);
-    if (!(dist2 > 0.f)) return std::nullopt;  // light exactly on the surface: no defined direction
-    const Vec3 wi = to_light / std::sqrt(dist2);
-    const SampledSpectrum f_cos = bsdf_eval(bsdf, wo, wi, hit.ns, lambda, TransportMode::radiance);
-    if (f_cos.is_zero()) return std::nullopt;
-    return PointLightRay{spawn_ray_to(hit, position), f_cos, dist2};
-}
-
-/// What a point light adds through a clear shadow ray (radiant intensity falls off as 1/r²).
-[[gnu::always_inline]] inline SampledSpectrum point_light_contribution(const PointLight& light, const PointLightRay& r,
-                                                                       const SampledWavelengths& lambda) {
-    return r.f_cos * light.intensity.sample(lambda) / r.dist2;
-}
-
-/// A spot light's shadow ray, f·|cos| and arriving radiance; nullopt when it cannot contribute.
-struct SpotLightRay {
-    Ray shadow;
-    SampledSpectrum f_cos, L;
-};
-[[gnu::always_inline]] inline std::optional<SpotLightRay> spot_light_ray(const SpotLight& light, const Bsdf& bsdf,
-                                                                         const Hit& hit, const Vec3& wo,
-                                                                         const SampledWavelengths& lambda) {
-    const std::optional<LightSample> ls = light.sample_li({hit.p, hit.p_err, hit.n, hit.ns, false}, lambda);
-    if (!ls) return std::nullopt;
-    const SampledSpectrum f_cos = bsdf_eval(bsdf, wo, ls->wi, hit.ns, lambda, TransportMode::radiance);
-    if (f_cos.is_zero()) return std::nullopt;
-    return SpotLightRay{spawn_ray_to(hit, ls->p), f_cos, ls->L};
+    return visit_light_of<kDeltaPositionLights>(delta_light, [&](const auto& light) -> std::optional<DeltaLightRay> {
+        const Vec3 position = light.position_at(time);
+        const Vec3 to_light = position - hit.p;
+        const float dist2 = length_squared(to_light);
+        if (!(dist2 > 0.f)) return std::nullopt;  // light exactly on the surface: no defined direction
+        const Vec3 wi = to_light / std::sqrt(dist2);
+        const float falloff = light.falloff(-wi);
+        if (falloff == 0.f) return std::nullopt;
+        const SampledSpectrum f_cos = bsdf_eval(bsdf, wo, wi, hit.ns, lambda, TransportMode::radiance);
+        if (f_cos.is_zero()) return std::nullopt;
+        return DeltaLightRay{spawn_ray_to(hit, position), f_cos * (light.I_max(lambda) * falloff) / dist2};
+    });
 }
 
 /// The shadow ray from a hit to a sample of light `light` (not a point or spot light), and

@@ -17,37 +17,34 @@ namespace spt {
 
 namespace {
 
-/// Direct light from every point and spot light through one shadow ray each (delta lights:
-/// no MIS).
+/// Direct light from every delta-position light (point, spot) through one shadow ray each
+/// (no MIS: no other strategy finds them).
 /// Out of line: scenes without point lights never call it, and inlined it changes the
 /// register allocation of the whole path loop (about 3 % more instructions per path).
 [[gnu::noinline]] SampledSpectrum sample_point_lights(const Scene& scene, const Bsdf& bsdf, const Hit& hit,
                                                       const Vec3& wo, const SampledWavelengths& lambda, float time,
                                                       PathStats& stats) {
     SampledSpectrum Ld(0.f);
-    for (int i : scene.point_light_indices) {
-        const PointLight& light = *std::get_if<PointLight>(&scene.lights[i]);
-        const Vec3 position = light.position_at(time);
-        const Vec3 to_light = position - hit.p;
-        const float dist2 = length_squared(to_light);
-        if (!(dist2 > 0.f)) continue;  // light exactly on the surface: no defined direction
-        const Vec3 wi = to_light / std::sqrt(dist2);
-        const SampledSpectrum f_cos = bsdf_eval(bsdf, wo, wi, hit.ns, lambda, TransportMode::radiance);
-        if (f_cos.is_zero()) continue;
-        ++stats.rays;
-        if (scene.occluded(spawn_ray_to(hit, position), {}, time)) continue;
-        Ld += f_cos * light.intensity.sample(lambda) / dist2;
-    }
-    for (int i : scene.spot_light_indices) {
-        const std::optional<LightSample> ls = std::get_if<SpotLight>(&scene.lights[i])->sample_li(
-            {hit.p, hit.p_err, hit.n, hit.ns, false}, lambda);
-        if (!ls) continue;
-        const SampledSpectrum f_cos = bsdf_eval(bsdf, wo, ls->wi, hit.ns, lambda, TransportMode::radiance);
-        if (f_cos.is_zero()) continue;
-        ++stats.rays;
-        if (scene.occluded(spawn_ray_to(hit, ls->p), {}, time)) continue;
-        Ld += f_cos * ls->L;
-    }
+    // Intensity I_max·falloff along the way out, over r² (a point light's falloff is the
+    // constant 1: its test and product fold away).
+    auto add = [&](int i) {
+        visit_light_of<kDeltaPositionLights>(scene.lights[i], [&](const auto& light) {
+            const Vec3 position = light.position_at(time);
+            const Vec3 to_light = position - hit.p;
+            const float dist2 = length_squared(to_light);
+            if (!(dist2 > 0.f)) return;  // light exactly on the surface: no defined direction
+            const Vec3 wi = to_light / std::sqrt(dist2);
+            const float falloff = light.falloff(-wi);
+            if (falloff == 0.f) return;
+            const SampledSpectrum f_cos = bsdf_eval(bsdf, wo, wi, hit.ns, lambda, TransportMode::radiance);
+            if (f_cos.is_zero()) return;
+            ++stats.rays;
+            if (scene.occluded(spawn_ray_to(hit, position), {}, time)) return;
+            Ld += f_cos * (light.I_max(lambda) * falloff) / dist2;
+        });
+    };
+    for (int i : scene.point_light_indices) add(i);
+    for (int i : scene.spot_light_indices) add(i);
     return Ld;
 }
 
@@ -64,28 +61,19 @@ template <bool kTextured>
     float u1, float u2, bool mis, PathStats& stats) {
     float choice = 0.f;
     const int index = choices.sample(u_light, choice);
-    // A plane light writes its sample in place (PlaneLight::sample_li); the others return it.
-    LightSample plane_sample;
-    std::optional<LightSample> other_sample;
-    LightSample* ls = &plane_sample;
-    if (const PlaneLight* plane = std::get_if<PlaneLight>(&scene.lights[index])) {
-        if (!plane->sample_li(ctx, lambda, u1, u2, plane_sample)) return SampledSpectrum(0.f);
-    } else {
-        other_sample = light_sample_li(scene.lights[index], ctx, lambda, u1, u2);
-        if (!other_sample) return SampledSpectrum(0.f);
-        ls = &*other_sample;
-    }
+    LightSample ls;
+    if (!light_sample_li(scene.lights[index], ctx, lambda, u1, u2, ls)) return SampledSpectrum(0.f);
     if constexpr (kTextured)
-        if (scene.light_textured(index)) ls->L = scene.light_point_emission(index, ls->p, ls->triangle, lambda);
-    const SampledSpectrum f_cos = bsdf_eval(bsdf, wo, ls->wi, hit.ns, lambda, TransportMode::radiance);
+        if (scene.light_textured(index)) ls.L = scene.light_point_emission(index, ls.p, ls.triangle, lambda);
+    const SampledSpectrum f_cos = bsdf_eval(bsdf, wo, ls.wi, hit.ns, lambda, TransportMode::radiance);
     if (f_cos.is_zero()) return SampledSpectrum(0.f);
     ++stats.rays;
-    const ShadowRay shadow = shadow_ray_to(scene, hit, *ls, index);
+    const ShadowRay shadow = shadow_ray_to(scene, hit, ls, index);
     if (shadow_blocked(scene, shadow, time)) return SampledSpectrum(0.f);
-    const float pdf_light = choice * ls->pdf;
-    if (!mis) return f_cos * ls->L / pdf_light;
-    const float pdf_bsdf = bsdf_pdf(bsdf, wo, ls->wi, hit.ns, lambda.lambda[0]);
-    return f_cos * ls->L * (power_heuristic(pdf_light, pdf_bsdf) / pdf_light);
+    const float pdf_light = choice * ls.pdf;
+    if (!mis) return f_cos * ls.L / pdf_light;
+    const float pdf_bsdf = bsdf_pdf(bsdf, wo, ls.wi, hit.ns, lambda.lambda[0]);
+    return f_cos * ls.L * (power_heuristic(pdf_light, pdf_bsdf) / pdf_light);
 }
 
 struct NoScratch {};
@@ -118,9 +106,9 @@ template <bool kTextured, bool kCaustic, class Sampler>
         ++stats.rays;
         const std::optional<Hit> hit = scene.intersect(ray, time);
         if (!hit) {
-            if (const EnvironmentLight* env = scene.environment()) {
+            if (scene.environment_index >= 0) {
                 const float w = mis.weight(scene, choices, scene.environment_index, ray.d, nullptr);
-                L += beta * env->Le.sample(lambda) * w;
+                L += beta * light_arriving(scene.lights[scene.environment_index], ray.d, lambda) * w;
             }
             break;
         }

@@ -56,7 +56,7 @@ SphereChains SphereChains::prepare(const Scene& scene) {
     for (std::size_t i = 0; i < scene.lights.size(); ++i) {
         if (scene.light_textured(static_cast<int>(i))) continue;
         const Light& light = scene.lights[i];
-        if (std::holds_alternative<SphereLight>(light) || std::holds_alternative<QuadLight>(light)) {
+        if (light_has_area_facing(light)) {
             power[i] = light_power(light);
             any |= power[i] > 0.f;
         }

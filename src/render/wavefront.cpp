@@ -186,9 +186,9 @@ void Wavefront::intersect(int begin, int end, ChunkQueues& out, PathStats& stats
         if (const std::optional<Hit> hit = m_scene.intersect(path.ray, path.time)) {
             path.hit = *hit;
             out.paths.push_back(i);
-        } else if (const EnvironmentLight* env = m_scene.environment()) {
+        } else if (m_scene.environment_index >= 0) {
             const float w = path.mis.weight(m_scene, choices, m_scene.environment_index, path.ray.d, nullptr);
-            path.L += path.beta * env->Le.sample(path.lambda) * w;
+            path.L += path.beta * light_arriving(m_scene.lights[m_scene.environment_index], path.ray.d, path.lambda) * w;
         }
     }
 }
@@ -225,19 +225,15 @@ void Wavefront::shade(int begin, int end, ChunkQueues& out, PathStats& stats) {
         NeeRecord record{i, static_cast<std::uint32_t>(out.rays.size()), 0, point_nee && non_delta,
                          area_nee && non_delta, false};
         if (record.point) {
-            for (int l : scene.point_light_indices) {
-                const PointLight& light = *std::get_if<PointLight>(&scene.lights[l]);
-                if (const std::optional<PointLightRay> r = point_light_ray(light, bsdf, hit, wo, lambda, path.time)) {
-                    out.rays.push_back({r->shadow, {}, point_light_contribution(light, *r, lambda)});
+            auto add = [&](int l) {
+                if (const std::optional<DeltaLightRay> r =
+                        delta_light_ray(scene.lights[l], bsdf, hit, wo, lambda, path.time)) {
+                    out.rays.push_back({r->shadow, {}, r->contribution});
                     ++record.point_rays;
                 }
-            }
-            for (int l : scene.spot_light_indices)
-                if (const std::optional<SpotLightRay> r =
-                        spot_light_ray(*std::get_if<SpotLight>(&scene.lights[l]), bsdf, hit, wo, lambda)) {
-                    out.rays.push_back({r->shadow, {}, r->f_cos * r->L});
-                    ++record.point_rays;
-                }
+            };
+            for (int l : scene.point_light_indices) add(l);
+            for (int l : scene.spot_light_indices) add(l);
         }
         LightSampleContext ctx;
         if (record.area) {

@@ -36,15 +36,15 @@ inline float area_to_solid_angle(float pdf_area, const Vec3& ref, const Vec3& p_
 }
 
 /// Completes a sample of an area light whose point, normal and solid-angle density are set:
-/// the direction from the reference point and the radiance; nullopt when the point coincides
+/// the direction from the reference point and the radiance; false when the point coincides
 /// with the reference point or the density is not a finite positive number (seen edge-on).
-inline std::optional<LightSample> finish_area_sample(LightSample ls, const Vec3& ref, const SampledSpectrum& Le) {
+inline bool finish_area_sample(LightSample& ls, const Vec3& ref, const SampledSpectrum& Le) {
     const Vec3 d = ls.p - ref;
     const float dist = length(d);
-    if (!(dist > 0.f) || !(ls.pdf > 0.f) || !std::isfinite(ls.pdf)) return std::nullopt;
+    if (!(dist > 0.f) || !(ls.pdf > 0.f) || !std::isfinite(ls.pdf)) return false;
     ls.wi = d / dist;
     ls.L = Le;
-    return ls;
+    return true;
 }
 
 }  // namespace spt

@@ -1,22 +1,66 @@
-// The closed set of lights and the contract each type fulfils. Adding a light is one header
-// in this folder and one entry in `Light`. An area light belongs to its shape: the shape
+// The closed set of lights and the one contract every type fulfils. Adding a light is one
+// header in this folder and one entry in `Light` (docs/DESIGN.md: "How to add a light").
+// Integrators reach lights only through the functions below, which dispatch on the type; no
+// file under render/ names a concrete light. An area light belongs to its shape: the shape
 // records the light's index (Hit::light), so a path that hits an emitter finds it directly.
 //
+// Every light has:
+///  type                           LightType (light_sample.h): delta_position (point, spot),
+///                                 delta_direction (none yet), area (a surface rays hit:
+///                                 quad, sphere, triangles, quadrics, the infinite plane),
+///                                 infinite (what escaping rays see: the environment).
 ///  power()                        mean emitted power over 380–780 nm (up to a common
 ///                                 scale): lights are chosen in proportion to it.
-///  sample_li(ctx, λ, u1, u2)      a direction towards the light from a reference point:
-///                                 {wi, L arriving along −wi, pdf in solid angle (1 for
-///                                 a delta light), the light point for the shadow ray};
-///                                 nullopt when nothing can arrive.
-///  pdf_li(ctx, hit)               the solid-angle density with which sample_li would
-///                                 produce the direction of a ray from ctx that found
-///                                 the light at `hit` (or escaped, for the environment).
-///  emitted(λ)                     radiance leaving the light's surface (area emitters
-///                                 emit the same from both sides).
-///  sample_le(...) / pdf_le_pos()  origin of a light subpath (bidirectional integrators:
-///                                 render/light_sampling.h); not every light can start one.
+///  sample_li(ctx, λ, u1, u2, ls)  a direction towards the light from the reference point
+///                                 ctx, written into `ls`, a default LightSample (in place:
+///                                 an optional's copy of the sample, read back as wide loads
+///                                 of fields just written one by one, stalled on store
+///                                 forwarding): wi, L arriving along −wi, the solid-angle
+///                                 density pdf of wi (1 for a delta light, with delta set),
+///                                 the light point for the shadow ray; false when nothing can
+///                                 arrive.
+// Non-delta lights have:
+///  pdf_li(...)                    the solid-angle density with which sample_li would
+///                                 produce a direction wi from ctx: (ctx, p, n) for a ray
+///                                 that found the light at the point p (normal n), (ctx, wi)
+///                                 for the infinite plane and the environment (light_pdf_li
+///                                 picks the form).
+// Area lights (type area) have:
+///  L(p, n, w, λ)                  radiance leaving the surface at p (normal n) along w, and
+///  two_sided                      whether both sides emit it. Every area light is two-sided
+///                                 today: light_emitted reads L without a point or direction
+///                                 (and refuses a one-sided light at compile time: Scene::
+///                                 emitted would then have to pass the hit and wo).
+///  closed (optional)              the surface encloses a volume: from outside only its
+///                                 outside is seen (the sphere).
+///  sample_area_facing(c, R, u1, u2, y, n, pdf) / pdf_area_facing(c, R, y) (optional)
+///                                 a point y by area density for a chain of specular bounces
+///                                 that ends on a ball of centre c and radius R (caustic
+///                                 next-event estimation, render/caustic_nee.h): lights
+///                                 without it are not sampled by that strategy.
+// Infinite lights have:
+///  arriving(d, λ)                 radiance arriving along an escaped ray of direction d.
+// Delta-position lights have:
+///  position_at(time)              where the light is at shutter time `time`;
+///  I_max(λ), falloff(w)           the radiant intensity along unit w is I_max(λ)·falloff(w),
+///                                 falloff in [0, 1] (a point light: 1).
+// Lights that can start a light subpath (bidirectional integrators; all but the infinite
+// plane, which has no finite area) have:
+///  sample_le(λ, u1, u2, u_side, u3, u4, time)
+///                                 a LightOrigin: point, direction, emitted quantity and
+///                                 densities (render/light_sampling.h adds the light choice);
+///  pdf_le_dir(n, w)               the solid-angle density of sample_le's direction w from
+///                                 a point of normal n;
+///  pdf_le_pos()                   area lights: the area density of sample_le's point;
+///                                 the environment: pdf_le_pos(p, d), the planar density of
+///                                 the disk point whose ray along d reaches p.
+//
+// tests/test_light_contract.cpp checks every type against this contract.
 #pragma once
+#include <cstddef>
+#include <initializer_list>
 #include <optional>
+#include <utility>
 #include <type_traits>
 #include <variant>
 
@@ -36,50 +80,192 @@ using Light =
     std::variant<PointLight, SphereLight, QuadLight, TriangleMeshLight, QuadricLight, PlaneLight, EnvironmentLight,
                  SpotLight>;
 
+/// A set of LightTypes, for visit_light_of.
+constexpr unsigned light_types(std::initializer_list<LightType> types) {
+    unsigned mask = 0;
+    for (LightType t : types) mask |= 1u << static_cast<unsigned>(t);
+    return mask;
+}
+inline constexpr unsigned kDeltaPositionLights = light_types({LightType::delta_position});
+inline constexpr unsigned kInfiniteLights = light_types({LightType::infinite});
+inline constexpr unsigned kAnyLight = ~0u;
+
+namespace detail {
+template <unsigned kTypes, std::size_t I>
+constexpr bool light_in() {
+    using T = std::variant_alternative_t<I, Light>;
+    return ((kTypes >> static_cast<unsigned>(T::type)) & 1u) != 0;
+}
+template <unsigned kTypes, std::size_t I>
+constexpr bool any_light_from() {
+    if constexpr (I >= std::variant_size_v<Light>) return false;
+    else return light_in<kTypes, I>() || any_light_from<kTypes, I + 1>();
+}
+}  // namespace detail
+
+/// f(the light as its type), for a light whose type is one of kTypes (the caller knows: the
+/// others are not tested for). A chain of index tests, inlined (as bsdf.h's visit_bsdf):
+/// std::visit compiles to an out-of-line call through a table; a set with one member costs
+/// no test at all.
+template <unsigned kTypes = kAnyLight, std::size_t I = 0, class F>
+[[gnu::always_inline]] inline decltype(auto) visit_light_of(const Light& light, F&& f) {
+    if constexpr (!detail::light_in<kTypes, I>()) {
+        return visit_light_of<kTypes, I + 1>(light, std::forward<F>(f));
+    } else {
+        if constexpr (detail::any_light_from<kTypes, I + 1>())
+            if (light.index() != I) return visit_light_of<kTypes, I + 1>(light, std::forward<F>(f));
+        return f(*std::get_if<I>(&light));
+    }
+}
+
+inline LightType light_type(const Light& light) {
+    return std::visit([](const auto& l) { return std::decay_t<decltype(l)>::type; }, light);
+}
+
 inline bool is_delta_light(const Light& light) {
-    return std::holds_alternative<PointLight>(light) || std::holds_alternative<SpotLight>(light);
+    const LightType t = light_type(light);
+    return t == LightType::delta_position || t == LightType::delta_direction;
 }
 
 inline float light_power(const Light& light) {
     return std::visit([](const auto& l) { return l.power(); }, light);
 }
 
+/// sample_li of the contract, in place: `ls` is a default LightSample.
+[[gnu::always_inline]] inline bool light_sample_li(const Light& light, const LightSampleContext& ctx,
+                                                   const SampledWavelengths& lambda, float u1, float u2,
+                                                   LightSample& ls) {
+    return visit_light_of(light, [&](const auto& l) { return l.sample_li(ctx, lambda, u1, u2, ls); });
+}
+
+/// sample_li as a value, for callers off the path loop.
 inline std::optional<LightSample> light_sample_li(const Light& light, const LightSampleContext& ctx,
                                                   const SampledWavelengths& lambda, float u1, float u2) {
-    return std::visit(
-        [&](const auto& l) -> std::optional<LightSample> {
-            using T = std::decay_t<decltype(l)>;
-            if constexpr (std::is_same_v<T, PointLight> || std::is_same_v<T, SpotLight>) return l.sample_li(ctx, lambda);
-            else return l.sample_li(ctx, lambda, u1, u2);
-        },
-        light);
+    LightSample ls;
+    if (!light_sample_li(light, ctx, lambda, u1, u2, ls)) return std::nullopt;
+    return ls;
 }
 
 /// pdf_li for a ray from ctx along wi that reached the light at `hit` (nullptr: the ray
-/// escaped, which only the environment answers).
+/// escaped, which only infinite lights answer); 0 for delta lights.
 inline float light_pdf_li(const Light& light, const LightSampleContext& ctx, const Vec3& wi, const Hit* hit) {
     return std::visit(
         [&](const auto& l) -> float {
             using T = std::decay_t<decltype(l)>;
-            if constexpr (std::is_same_v<T, PointLight> || std::is_same_v<T, SpotLight>) return 0.f;
-            else if constexpr (std::is_same_v<T, PlaneLight> || std::is_same_v<T, EnvironmentLight>)
-                return l.pdf_li(ctx, wi);
+            if constexpr (T::type == LightType::delta_position || T::type == LightType::delta_direction) return 0.f;
+            else if constexpr (requires { l.pdf_li(ctx, wi); }) return l.pdf_li(ctx, wi);
             else return hit ? l.pdf_li(ctx, hit->p, hit->n) : 0.f;
         },
         light);
 }
 
-/// Radiance leaving an area light or arriving from the environment (0 for point lights).
-/// A chain of index tests, inlined (as bsdf.h's visit_bsdf): std::visit compiled to an
-/// out-of-line call through a table, which the path loop made at every emitter it hit.
-template <std::size_t I = 0>
+/// Radiance leaving an area light where a ray hit it (0 for the other lights): L of the
+/// contract, which for a two-sided emitter depends on neither the point nor the direction.
 [[gnu::always_inline]] inline SampledSpectrum light_emitted(const Light& light, const SampledWavelengths& lambda) {
-    if constexpr (I + 1 < std::variant_size_v<Light>) {
-        if (light.index() != I) return light_emitted<I + 1>(light, lambda);
-    }
-    using T = std::variant_alternative_t<I, Light>;
-    if constexpr (std::is_same_v<T, PointLight> || std::is_same_v<T, SpotLight>) return SampledSpectrum(0.f);
-    else return std::get_if<I>(&light)->Le.sample(lambda);
+    return visit_light_of(light, [&](const auto& l) -> SampledSpectrum {
+        using T = std::decay_t<decltype(l)>;
+        if constexpr (T::type != LightType::area) return SampledSpectrum(0.f);
+        else {
+            static_assert(T::two_sided, "a one-sided light needs the hit and wo: pass them to L here");
+            return l.L(Vec3(), Vec3(), Vec3(), lambda);
+        }
+    });
+}
+
+/// Radiance arriving along an escaped ray of direction d, from an infinite light.
+[[gnu::always_inline]] inline SampledSpectrum light_arriving(const Light& infinite_light, const Vec3& d,
+                                                             const SampledWavelengths& lambda) {
+    return visit_light_of<kInfiniteLights>(infinite_light, [&](const auto& l) { return l.arriving(d, lambda); });
+}
+
+/// Whether the light is a closed surface (seen from outside, only its outside).
+inline bool light_is_closed(const Light& light) {
+    return std::visit([](const auto& l) { return requires { requires std::decay_t<decltype(l)>::closed; }; }, light);
+}
+
+/// Whether the light has sample_area_facing (the caustic chains can sample it).
+inline bool light_has_area_facing(const Light& light) {
+    return std::visit(
+        [](const auto& l) {
+            return requires(Vec3 & v, float& f) { l.sample_area_facing(v, 0.f, 0.f, 0.f, v, v, f); };
+        },
+        light);
+}
+
+/// sample_area_facing of the contract; false for lights without it.
+inline bool light_sample_area_facing(const Light& light, const Vec3& c, float R, float u1, float u2, Vec3& y,
+                                     Vec3& n, float& pdf_area) {
+    return std::visit(
+        [&](const auto& l) {
+            if constexpr (requires { l.sample_area_facing(c, R, u1, u2, y, n, pdf_area); })
+                return l.sample_area_facing(c, R, u1, u2, y, n, pdf_area);
+            else return false;
+        },
+        light);
+}
+/// pdf_area_facing of the contract; 0 for lights without it.
+inline float light_pdf_area_facing(const Light& light, const Vec3& c, float R, const Vec3& y) {
+    return std::visit(
+        [&](const auto& l) {
+            if constexpr (requires { l.pdf_area_facing(c, R, y); }) return l.pdf_area_facing(c, R, y);
+            else return 0.f;
+        },
+        light);
+}
+
+/// Whether the light can start a light subpath (has sample_le).
+inline bool light_can_start_subpath(const Light& light) {
+    return std::visit(
+        [](const auto& l) {
+            return requires(const SampledWavelengths& lambda) { l.sample_le(lambda, 0.f, 0.f, 0.f, 0.f, 0.f, 0.f); };
+        },
+        light);
+}
+
+/// sample_le of the contract (the light's choice not included); nullopt for lights that
+/// cannot start a subpath.
+inline std::optional<LightOrigin> light_sample_le(const Light& light, const SampledWavelengths& lambda, float u1,
+                                                  float u2, float u_side, float u3, float u4, float time) {
+    return std::visit(
+        [&](const auto& l) -> std::optional<LightOrigin> {
+            if constexpr (requires { l.sample_le(lambda, u1, u2, u_side, u3, u4, time); })
+                return l.sample_le(lambda, u1, u2, u_side, u3, u4, time);
+            else return std::nullopt;
+        },
+        light);
+}
+
+/// Area density of an area light's sample_le point (0 for the other lights and the plane).
+inline float light_pdf_le_pos(const Light& light) {
+    return std::visit(
+        [](const auto& l) -> float {
+            if constexpr (requires { l.pdf_le_pos(); }) return l.pdf_le_pos();
+            else return 0.f;
+        },
+        light);
+}
+
+/// Solid-angle density of sample_le's direction w from a light point of normal n (0 for
+/// lights that cannot start a subpath).
+inline float light_pdf_le_dir(const Light& light, const Vec3& n, const Vec3& w) {
+    return std::visit(
+        [&](const auto& l) -> float {
+            if constexpr (requires { l.pdf_le_dir(n, w); }) return l.pdf_le_dir(n, w);
+            else return 0.f;
+        },
+        light);
+}
+
+/// Where a delta-position light is at `time`.
+[[gnu::always_inline]] inline Vec3 light_position_at(const Light& delta_light, float time) {
+    return visit_light_of<kDeltaPositionLights>(delta_light, [&](const auto& l) { return l.position_at(time); });
+}
+/// A delta-position light's I_max(λ) and falloff(w) (its intensity along w is their product).
+inline SampledSpectrum light_I_max(const Light& delta_light, const SampledWavelengths& lambda) {
+    return visit_light_of<kDeltaPositionLights>(delta_light, [&](const auto& l) { return l.I_max(lambda); });
+}
+inline float light_falloff(const Light& delta_light, const Vec3& w) {
+    return visit_light_of<kDeltaPositionLights>(delta_light, [&](const auto& l) { return l.falloff(w); });
 }
 
 }  // namespace spt

@@ -7,6 +7,11 @@
 
 namespace spt {
 
+/// What a light is, for the integrators: a point of space (point, spot), a direction (none
+/// yet: a distant light), a surface that rays can hit (area lights, the infinite plane), or
+/// what escaping rays see (the environment).
+enum class LightType { delta_position, delta_direction, area, infinite };
+
 /// The shading point a light is sampled from.
 struct LightSampleContext {
     Vec3 p, p_err;

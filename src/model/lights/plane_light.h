@@ -73,6 +73,9 @@ namespace spt {
 struct PlaneLight {
     Plane plane;
     Spectrum Le;  ///< radiance, both sides
+    /// A surface that rays hit, of infinite area: no sample_le (it starts no light subpath).
+    static constexpr LightType type = LightType::area;
+    static constexpr bool two_sided = true;
     /// The radius of the scene's bounding sphere: the plane's power for light selection is
     /// what it sends into a disk of that radius, π·Le·πR² (it has no finite power).
     float scene_radius = 1.f;
@@ -171,6 +174,11 @@ struct PlaneLight {
 
     float power() const { return kPi * kPi * scene_radius * scene_radius * mean_over_visible(Le); }
 
+    /// Radiance leaving the plane at p (normal n) along w: the same from both sides.
+    SampledSpectrum L(const Vec3& /*p*/, const Vec3& /*n*/, const Vec3& /*w*/, const SampledWavelengths& lambda) const {
+        return Le.sample(lambda);
+    }
+
     /// Signed distance of p from the plane along its normal (double: p may lie far away).
     double side(const Vec3& p) const {
         return double(plane.normal.x) * p.x + double(plane.normal.y) * p.y + double(plane.normal.z) * p.z -
@@ -187,10 +195,7 @@ struct PlaneLight {
     /// gathering side): no sample, density 0.
     static constexpr float kMinLune = 1e-6f;
 
-    /// sample_li into caller storage `ls`, a default LightSample (the fields a plane's sample
-    /// does not set keep their defaults): false when nothing can arrive. The path loop's next-event estimation calls it: the
-    /// optional's copy of the sample, read back as wide loads of fields just written one by
-    /// one, stalled on store forwarding.
+    /// sample_li into caller storage `ls`, a default LightSample (light.h's contract).
     bool sample_li(const LightSampleContext& ctx, const SampledWavelengths& lambda, float u1, float u2,
                    LightSample& ls) const {
         const double s = side(ctx.p);
@@ -246,13 +251,6 @@ struct PlaneLight {
         if (!std::isfinite(ls.plane_distance) || !(ls.plane_distance > 0.f)) return false;
         ls.L = Le.sample(lambda);
         return true;
-    }
-
-    std::optional<LightSample> sample_li(const LightSampleContext& ctx, const SampledWavelengths& lambda, float u1,
-                                         float u2) const {
-        LightSample ls;
-        if (!sample_li(ctx, lambda, u1, u2, ls)) return std::nullopt;
-        return ls;
     }
 
     float pdf_li(const LightSampleContext& ctx, const Vec3& wi) const {

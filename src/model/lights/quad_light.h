@@ -30,6 +30,8 @@ namespace spt {
 struct QuadLight {
     Vec3 o, e1, e2;  ///< corner and edges (orthogonal for solid-angle sampling)
     Spectrum Le;     ///< radiance, both sides
+    static constexpr LightType type = LightType::area;
+    static constexpr bool two_sided = true;
 
     // Below: set by finish().
     Vec3 n;                 ///< unit normal, e1 × e2 normalised
@@ -85,6 +87,10 @@ struct QuadLight {
     }
 
     float area() const { return total_area; }
+    /// Radiance leaving the surface at p (normal n) along w: the same from both sides.
+    SampledSpectrum L(const Vec3& /*p*/, const Vec3& /*n*/, const Vec3& /*w*/, const SampledWavelengths& lambda) const {
+        return Le.sample(lambda);
+    }
     float power() const { return 2.f * kPi * total_area * mean_over_visible(Le); }
 
     /// The spherical rectangle seen from a reference point, in the frame (ux, uy, ±uz) centred
@@ -173,12 +179,11 @@ struct QuadLight {
         p_err = (abs(o) + abs(e1) + abs(e2)) * gamma_bound(7) + rounded_point_error(p);
     }
 
-    std::optional<LightSample> sample_li(const LightSampleContext& ctx, const SampledWavelengths& lambda, float u1,
-                                         float u2) const {
+    bool sample_li(const LightSampleContext& ctx, const SampledWavelengths& lambda, float u1, float u2,
+                   LightSample& ls) const {
         SphericalRect r;
         const Strategy how = strategy(ctx, r);
-        if (how == Strategy::none) return std::nullopt;
-        LightSample ls;
+        if (how == Strategy::none) return false;
         ls.n = n;
         ls.planar = true;  // `none` above: the reference point is off the plane
         if (how == Strategy::solid_angle) {
@@ -206,7 +211,7 @@ struct QuadLight {
     }
 
     std::optional<LightOrigin> sample_le(const SampledWavelengths& lambda, float u1, float u2, float u_side,
-                                         float u3, float u4) const {
+                                         float u3, float u4, float /*time*/) const {
         if (!(total_area > 0.f)) return std::nullopt;
         LightOrigin lo;
         point_at(u1, u2, lo.p, lo.p_err);
@@ -215,6 +220,18 @@ struct QuadLight {
         return emit_two_sided(lo, Le.sample(lambda), u_side, u3, u4);
     }
     float pdf_le_pos() const { return 1.f / total_area; }
+    float pdf_le_dir(const Vec3& n_light, const Vec3& w) const { return two_sided_direction_pdf(n_light, w); }
+
+    /// A point y of the surface by area for a chain of specular bounces that ends on a ball
+    /// (centre c, radius R; the rectangle ignores it): uniform, density 1/area.
+    bool sample_area_facing(const Vec3& /*c*/, float /*R*/, float u1, float u2, Vec3& y, Vec3& ny,
+                            float& pdf_area) const {
+        y = o + e1 * u1 + e2 * u2;
+        ny = n;
+        pdf_area = 1.f / area();
+        return true;
+    }
+    float pdf_area_facing(const Vec3& /*c*/, float /*R*/, const Vec3& /*y*/) const { return 1.f / area(); }
 };
 
 }  // namespace spt

@@ -4,6 +4,7 @@
 // the area. Emission (light subpaths) starts uniformly over the area. The geometry is a copy
 // of the scene's sphere (the light answers without the scene).
 #pragma once
+#include <algorithm>
 #include <optional>
 
 #include "geometry/ray.h"
@@ -17,6 +18,15 @@ struct SphereLight {
     Sphere sphere;
     Spectrum Le;  ///< radiance, both sides
     int sphere_index = -1;  ///< the sphere's index in the scene (set by Scene::finalize)
+    static constexpr LightType type = LightType::area;
+    static constexpr bool two_sided = true;
+    /// A closed surface: from outside, only its outside can be seen.
+    static constexpr bool closed = true;
+
+    /// Radiance leaving the surface at p (normal n) along w: the same from both sides.
+    SampledSpectrum L(const Vec3& /*p*/, const Vec3& /*n*/, const Vec3& /*w*/, const SampledWavelengths& lambda) const {
+        return Le.sample(lambda);
+    }
 
     float area() const { return 4.f * kPi * sphere.radius * sphere.radius; }
     float power() const { return 2.f * kPi * area() * mean_over_visible(Le); }
@@ -46,12 +56,11 @@ struct SphereLight {
         return 1.f - std::sqrt(1.f - sin2_max);
     }
 
-    std::optional<LightSample> sample_li(const LightSampleContext& ctx, const SampledWavelengths& lambda, float u1,
-                                         float u2) const {
+    bool sample_li(const LightSampleContext& ctx, const SampledWavelengths& lambda, float u1, float u2,
+                   LightSample& ls) const {
         const Vec3 from_center = ctx.p - sphere.center;
         const float dist2 = length_squared(from_center);
         const float r2 = sphere.radius * sphere.radius;
-        LightSample ls;
         if (sees_from_inside(ctx) || !(dist2 > r2)) {
             // Inside: a point uniform over the area, its density turned into solid angle.
             sample_point(u1, u2, ls.p, ls.p_err, ls.n);
@@ -103,13 +112,53 @@ struct SphereLight {
     }
 
     std::optional<LightOrigin> sample_le(const SampledWavelengths& lambda, float u1, float u2, float u_side,
-                                         float u3, float u4) const {
+                                         float u3, float u4, float /*time*/) const {
         LightOrigin o;
         sample_point(u1, u2, o.p, o.p_err, o.n);
         o.pdf_pos = 1.f / area();
         return emit_two_sided(o, Le.sample(lambda), u_side, u3, u4);
     }
     float pdf_le_pos() const { return 1.f / area(); }
+    float pdf_le_dir(const Vec3& n_light, const Vec3& w) const { return two_sided_direction_pdf(n_light, w); }
+
+    /// The cap of the sphere that a ball (centre c, radius R) can see: the points whose
+    /// outward normal has z ≥ z_min about the axis from the light's centre to the ball's
+    /// (z_min = (r − R)/|c − c_L|: a point below it faces away from the whole ball; area
+    /// 2πr²(1 − z_min)).
+    struct VisibleCap {
+        Vec3 axis;   ///< ball centre − light centre
+        float dist;  ///< |axis|
+        float z_min;
+        float area_pdf(float r) const { return 1.f / (2.f * kPi * r * r * (1.f - z_min)); }
+    };
+    VisibleCap visible_cap(const Vec3& c, float R) const {
+        const Vec3 axis = c - sphere.center;
+        const float dist = length(axis);
+        return {axis, dist, std::max(-1.f, (sphere.radius - R) / dist)};
+    }
+
+    /// A point y by area for a chain of specular bounces that ends on a ball (centre c,
+    /// radius R): uniform over the cap the ball can see, density 1/(cap area).
+    bool sample_area_facing(const Vec3& c, float R, float u1, float u2, Vec3& y, Vec3& ny, float& pdf_area) const {
+        const VisibleCap cap = visible_cap(c, R);
+        const float r = sphere.radius;
+        const float z = 1.f - u1 * (1.f - cap.z_min);
+        const float sz = std::sqrt(std::max(0.f, 1.f - z * z));
+        const float phi = 2.f * kPi * u2;
+        const Frame f(cap.axis / cap.dist);
+        ny = f.to_world(Vec3(sz * std::cos(phi), sz * std::sin(phi), z));
+        y = sphere.center + ny * r;
+        pdf_area = cap.area_pdf(r);
+        return true;
+    }
+    /// The density of sample_area_facing at a point y of the sphere (0 outside the cap).
+    float pdf_area_facing(const Vec3& c, float R, const Vec3& y) const {
+        const VisibleCap cap = visible_cap(c, R);
+        const float r = sphere.radius;
+        const float z = dot(y - sphere.center, cap.axis) / (cap.dist * r);
+        if (z < cap.z_min) return 0.f;
+        return cap.area_pdf(r);
+    }
 };
 
 }  // namespace spt

@@ -20,6 +20,13 @@ struct SpotLight {
     float cos_cone = 0.f;            ///< cosine of the cone's half angle (no light outside)
     float cos_falloff = 1.f;         ///< cosine of the half angle where the fade begins (≥ cos_cone)
 
+    static constexpr LightType type = LightType::delta_position;
+
+    /// Where the light is at `time` (spot lights stand still).
+    Vec3 position_at(float /*time*/) const { return position; }
+    /// Radiant intensity along w is I_max(λ)·falloff(w).
+    SampledSpectrum I_max(const SampledWavelengths& lambda) const { return intensity.sample(lambda); }
+
     /// The angular factor in [0, 1] for light leaving along unit w.
     float falloff(const Vec3& w) const {
         const float c = dot(w, direction);
@@ -36,23 +43,24 @@ struct SpotLight {
     }
 
     /// A delta light, as the point light: pdf 1, L = I·falloff/r².
-    std::optional<LightSample> sample_li(const LightSampleContext& ctx, const SampledWavelengths& lambda) const {
+    bool sample_li(const LightSampleContext& ctx, const SampledWavelengths& lambda, float /*u1*/, float /*u2*/,
+                   LightSample& ls) const {
         const Vec3 to_light = position - ctx.p;
         const float dist2 = length_squared(to_light);
-        if (!(dist2 > 0.f)) return std::nullopt;
-        LightSample ls;
+        if (!(dist2 > 0.f)) return false;
         ls.wi = to_light / std::sqrt(dist2);
         const float f = falloff(-ls.wi);
-        if (f == 0.f) return std::nullopt;
+        if (f == 0.f) return false;
         ls.L = intensity.sample(lambda) * (f / dist2);
         ls.pdf = 1.f;
         ls.p = position;
         ls.delta = true;
-        return ls;
+        return true;
     }
 
     /// Origin of a light subpath: the position, a direction uniform over the cone.
-    LightOrigin sample_le(const SampledWavelengths& lambda, float u1, float u2) const {
+    std::optional<LightOrigin> sample_le(const SampledWavelengths& lambda, float u1, float u2, float /*u_side*/,
+                                         float /*u3*/, float /*u4*/, float /*time*/) const {
         LightOrigin o;
         o.p = position;
         const float cos_theta = 1.f - u1 * (1.f - cos_cone);
@@ -64,6 +72,10 @@ struct SpotLight {
         o.pdf_dir = 1.f / (2.f * kPi * (1.f - cos_cone));
         o.delta_position = true;
         return o;
+    }
+    /// Density of sample_le's direction w (uniform over the cone).
+    float pdf_le_dir(const Vec3& /*n*/, const Vec3& w) const {
+        return dot(w, direction) >= cos_cone ? 1.f / (2.f * kPi * (1.f - cos_cone)) : 0.f;
     }
 };
 

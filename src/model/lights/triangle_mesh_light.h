@@ -19,6 +19,13 @@ struct TriangleMeshLight {
     std::vector<float> cdf;           ///< cumulative area fractions (last = 1)
     float total_area = 0.f;
     Spectrum Le;  ///< radiance, both sides
+    static constexpr LightType type = LightType::area;
+    static constexpr bool two_sided = true;
+
+    /// Radiance leaving the surface at p (normal n) along w: the same from both sides.
+    SampledSpectrum L(const Vec3& /*p*/, const Vec3& /*n*/, const Vec3& /*w*/, const SampledWavelengths& lambda) const {
+        return Le.sample(lambda);
+    }
 
     static float triangle_area(const Triangle& t) { return 0.5f * length(cross(t.p1 - t.p0, t.p2 - t.p0)); }
 
@@ -52,9 +59,8 @@ struct TriangleMeshLight {
         n = normalize(cross(t.p1 - t.p0, t.p2 - t.p0));
     }
 
-    std::optional<LightSample> sample_li(const LightSampleContext& ctx, const SampledWavelengths& lambda, float u1,
-                                         float u2) const {
-        LightSample ls;
+    bool sample_li(const LightSampleContext& ctx, const SampledWavelengths& lambda, float u1, float u2,
+                   LightSample& ls) const {
         sample_point(u1, u2, ls.p, ls.p_err, ls.n, ls.triangle);
         ls.pdf = area_to_solid_angle(1.f / total_area, ctx.p, ls.p, ls.n);
         return finish_area_sample(ls, ctx.p, Le.sample(lambda));
@@ -65,13 +71,14 @@ struct TriangleMeshLight {
     }
 
     std::optional<LightOrigin> sample_le(const SampledWavelengths& lambda, float u1, float u2, float u_side,
-                                         float u3, float u4) const {
+                                         float u3, float u4, float /*time*/) const {
         LightOrigin o;
         sample_point(u1, u2, o.p, o.p_err, o.n, o.triangle);
         o.pdf_pos = 1.f / total_area;
         return emit_two_sided(o, Le.sample(lambda), u_side, u3, u4);
     }
     float pdf_le_pos() const { return 1.f / total_area; }
+    float pdf_le_dir(const Vec3& n_light, const Vec3& w) const { return two_sided_direction_pdf(n_light, w); }
 };
 
 }  // namespace spt

@@ -1,0 +1,304 @@
+// The contract of model/lights/light.h, checked for every type of the closed set, one row per
+// type (each light alone in a scene built here, so a ray finds it through Scene::intersect as
+// in the path tracer): sample_li's directions follow pdf_li (chi-square over the sphere of
+// directions), the density a sample carries is pdf_li's for its direction, delta lights
+// return pdf 1 with `delta` set, power() equals the numerical integral of the emitted
+// radiance or intensity, sample_le's directions follow pdf_le_dir (chi-square) and its
+// point density is pdf_le_pos; and a planted bug (a density off by a factor) is rejected.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+#include <numbers>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "chi2.h"
+#include "cone_histogram.h"
+#include "model/lights/light.h"
+#include "scene/scene.h"
+#include "test_scenes.h"
+
+namespace {
+
+using namespace spt;
+constexpr double kPiD = std::numbers::pi;
+constexpr double kAlpha = 1e-5;  ///< per chi-square test (about 20 in this file)
+
+Spectrum constant(double v) { return test::constant_spectrum(v); }
+
+Scene empty_scene() {
+    Scene scene;
+    scene.add_material(test::black_material());
+    return scene;
+}
+
+struct Row {
+    std::string name;
+    std::function<Scene()> make;
+    Vec3 ref;               ///< the reference point lights are sampled from
+    double power_integral;  ///< ∫ emitted over area (or solid angle) and directions, / mean Le; <0: not tested
+    Vec3 towards{0, 1, 0};  ///< axis of the cone of directions the chi-square bins (from ref)
+    double cos_max = -1;    ///< the cone's extent (−1: the whole sphere)
+    /// Whether the direction chi-square runs here. Polygons (quad, triangles) have straight
+    /// edges across the cells that the midpoint rule of the expected counts resolves badly:
+    /// test_lights.cpp bins them in their own parametrization instead.
+    bool chi2 = true;
+};
+
+std::vector<Row> rows() {
+    const double le = 1.5;
+    std::vector<Row> r;
+    r.push_back({"point", [] {
+                     Scene s = empty_scene();
+                     s.add_point_light({0.2f, 2.f, -0.1f}, constant(1.5));
+                     s.finalize();
+                     return s;
+                 },
+                 {0, 0, 0}, 4 * kPiD * le});
+    r.push_back({"spot", [] {
+                     Scene s = empty_scene();
+                     SpotLight spot;
+                     spot.position = {0.f, 2.f, 0.f};
+                     spot.direction = normalize(Vec3{0.2f, -1.f, 0.f});
+                     spot.intensity = constant(1.5);
+                     spot.cos_cone = std::cos(40.f * float(kPiD) / 180.f);
+                     spot.cos_falloff = std::cos(20.f * float(kPiD) / 180.f);
+                     s.lights.emplace_back(spot);
+                     s.finalize();
+                     return s;
+                 },
+                 {0.1f, 0, 0}, -2});  // -2: integrated numerically below
+    r.push_back({"sphere", [] {
+                     Scene s = empty_scene();
+                     Sphere sp{{0.3f, 2.f, -0.4f}, 0.5f};
+                     sp.material = 0;
+                     sp.light = s.add_emitter(ShapeKind::sphere, constant(1.5));
+                     s.spheres.push_back(sp);
+                     s.finalize();
+                     return s;
+                 },
+                 {0, 0, 0}, 2 * kPiD * 4 * kPiD * 0.25 * le, normalize(Vec3{0.3f, 2.f, -0.4f}), 0.95});
+    r.push_back({"quad", [] {
+                     Scene s = empty_scene();
+                     const Vec3 o(-0.25f, 1.f, -0.25f), e1(0.5f, 0, 0), e2(0, 0, 0.5f);
+                     const int light = s.add_quad_emitter(o, e1, e2, constant(1.5));
+                     Triangle a{o, o + e1, o + e1 + e2, 0}, b{o, o + e1 + e2, o + e2, 0};
+                     a.light = b.light = light;
+                     s.triangles = {a, b};
+                     s.finalize();
+                     return s;
+                 },
+                 {0.1f, 0.7f, 0.05f}, 2 * kPiD * 0.25 * le, normalize(Vec3{-0.1f, 0.3f, -0.05f}), 0.3, false});
+    r.push_back({"triangles", [] {
+                     Scene s = empty_scene();
+                     const int light = s.add_emitter(ShapeKind::triangle, constant(1.5));
+                     Triangle a{{-0.5f, 1.f, -0.2f}, {0.4f, 1.2f, -0.3f}, {0.f, 1.1f, 0.6f}, 0};
+                     a.light = light;
+                     s.triangles = {a};
+                     s.finalize();
+                     return s;
+                 },
+                 {0, 0, 0}, -1, normalize(Vec3{-0.033f, 1.1f, 0.033f}), 0.8, false});  // power: area computed below
+    r.push_back({"disk", [] {
+                     Scene s = empty_scene();
+                     Disk d{{0.f, 1.5f, 0.2f}, normalize(Vec3{0.2f, -1.f, 0.1f}), 0.6f};
+                     d.material = 0;
+                     d.light = s.add_emitter(ShapeKind::disk, constant(1.5));
+                     s.disks.push_back(d);
+                     s.finalize();
+                     return s;
+                 },
+                 {0, 0, 0}, 2 * kPiD * kPiD * 0.36 * le, normalize(Vec3{0.f, 1.5f, 0.2f}), 0.85});
+    r.push_back({"plane", [] {
+                     Scene s = empty_scene();
+                     Plane p{{0, 1, 0}, 2.f};
+                     p.material = 0;
+                     p.light = s.add_emitter(ShapeKind::plane, constant(1.5));
+                     s.planes.push_back(p);
+                     s.finalize();
+                     return s;
+                 },
+                 {0, 0, 0}, -3});  // no finite power: not tested
+    r.push_back({"environment", [] {
+                     Scene s = empty_scene();
+                     s.set_background(constant(1.5));
+                     s.finalize();
+                     return s;
+                 },
+                 {0, 0, 0}, -3});
+    return r;
+}
+
+LightSampleContext context(const Vec3& p, const Vec3& n, bool both) { return {p, {0, 0, 0}, n, n, both}; }
+SampledWavelengths wavelengths() { return SampledWavelengths::sample(0.37f); }
+
+/// pdf_li of light 0 for the ray from ctx.p along d, found through the scene (0 on a miss).
+double pdf_along(const Scene& scene, const LightSampleContext& ctx, const Vec3& d) {
+    const std::optional<Hit> hit = scene.intersect({ctx.p, d, kInfinity});
+    if (hit && hit->light != 0) return 0.0;
+    if (!hit && scene.environment_index != 0) return 0.0;
+    return light_pdf_li(scene.lights[0], ctx, d, hit ? &*hit : nullptr);
+}
+
+/// Chi-square of sample_li's directions against `pdf` over the row's cone (12 × 12 cells
+/// equal in solid angle, plus the outside).
+spt_test::Chi2Result li_chi2(const Scene& scene, const Row& row, const LightSampleContext& ctx,
+                             const std::function<double(const Vec3&)>& pdf, int n, std::uint64_t seed) {
+    spt_test::ConeHistogram h(row.towards, row.cos_max, 12, 12);
+    const std::vector<double> expected = h.expected(pdf, n, 10);
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<float> u(0.f, 1.f);
+    for (int i = 0; i < n; ++i) {
+        LightSample ls;
+        if (light_sample_li(scene.lights[0], ctx, wavelengths(), u(rng), u(rng), ls)) h.add(ls.wi);
+        else h.add_outside();
+    }
+    return spt_test::chi2_test(h.observed(), expected);
+}
+
+TEST(LightContract, EveryTypeHasARow) {
+    // One row per alternative of Light: a new light type must add its row here.
+    std::vector<bool> seen(std::variant_size_v<Light>, false);
+    for (const Row& row : rows()) seen[row.make().lights.at(0).index()] = true;
+    for (std::size_t i = 0; i < seen.size(); ++i) EXPECT_TRUE(seen[i]) << "no row for Light alternative " << i;
+}
+
+TEST(LightContract, SampledDirectionsFollowPdfLi) {
+    for (const Row& row : rows()) {
+        const Scene scene = row.make();
+        const Light& light = scene.lights[0];
+        for (bool both : {false, true}) {
+            const LightSampleContext ctx = context(row.ref, {0, 1, 0}, both);
+            if (is_delta_light(light)) {
+                // The delta sample: pdf 1, delta set, L = I(−wi)/r², direction towards the light.
+                LightSample ls;
+                ASSERT_TRUE(light_sample_li(light, ctx, wavelengths(), 0.3f, 0.6f, ls)) << row.name;
+                EXPECT_EQ(ls.pdf, 1.f) << row.name;
+                EXPECT_TRUE(ls.delta) << row.name;
+                const Vec3 d = light_position_at(light, 0.f) - ctx.p;
+                EXPECT_NEAR(dot(ls.wi, normalize(d)), 1.0, 1e-6) << row.name;
+                const SampledSpectrum I = light_I_max(light, wavelengths()) * light_falloff(light, -ls.wi);
+                EXPECT_NEAR(ls.L[0], I[0] / length_squared(d), 1e-5 * I[0]) << row.name;
+                EXPECT_EQ(light_pdf_li(light, ctx, ls.wi, nullptr), 0.f) << row.name;
+                continue;
+            }
+            if (row.chi2) {
+                const spt_test::Chi2Result r =
+                    li_chi2(scene, row, ctx, [&](const Vec3& d) { return pdf_along(scene, ctx, d); }, 100000, 7);
+                EXPECT_GT(r.p_value, kAlpha) << row.name << (both ? " (both sides)" : "") << ": X² = " << r.statistic;
+                EXPECT_EQ(r.observed_in_empty, 0) << row.name;
+            }
+            // The density a sample carries is pdf_li's for its direction.
+            std::mt19937_64 rng(11);
+            std::uniform_real_distribution<float> u(0.f, 1.f);
+            for (int i = 0; i < 2000; ++i) {
+                LightSample ls;
+                if (!light_sample_li(light, ctx, wavelengths(), u(rng), u(rng), ls)) continue;
+                const double ref = pdf_along(scene, ctx, ls.wi);
+                ASSERT_NEAR(ls.pdf, ref, 2e-3 * ref) << row.name;
+            }
+        }
+    }
+}
+
+TEST(LightContractNegativeControl, ChiSquareRejectsADensityOffByTenPercent) {
+    // The planted bug: the sphere's density scaled by 1.1 (renormalised in the outside cell).
+    for (const Row& row : rows()) {
+        if (row.name != "sphere") continue;
+        const Scene scene = row.make();
+        const LightSampleContext ctx = context(row.ref, {0, 1, 0}, false);
+        const spt_test::Chi2Result r =
+            li_chi2(scene, row, ctx, [&](const Vec3& d) { return 1.1 * pdf_along(scene, ctx, d); }, 100000, 7);
+        EXPECT_LT(r.p_value, kAlpha);
+    }
+}
+
+/// ∫ over the light's points and directions of the emitted radiance (intensity for delta
+/// lights), by Monte Carlo from sample_le: E[Le·|cos|/(pdf_pos·pdf_dir)].
+double emitted_by_sample_le(const Light& light, int n) {
+    std::mt19937_64 rng(17);
+    std::uniform_real_distribution<float> u(0.f, 1.f);
+    double sum = 0;
+    for (int i = 0; i < n; ++i) {
+        const auto o = light_sample_le(light, wavelengths(), u(rng), u(rng), u(rng), u(rng), u(rng), 0.f);
+        if (!o) continue;
+        const double cos_o = o->delta_position ? 1.0 : std::fabs(dot(o->n, o->w));
+        sum += o->Le[0] * cos_o / (o->pdf_pos * o->pdf_dir);
+    }
+    return sum / n;
+}
+
+TEST(LightContract, PowerIsTheIntegralOfWhatIsEmitted) {
+    // power() = ∫∫ L cos dA dω (area), ∫ I dω (delta), up to the mean over 380–780 nm: with a
+    // constant spectrum Le the power is the geometric integral times Le.
+    for (const Row& row : rows()) {
+        if (row.power_integral == -3) continue;
+        const Scene scene = row.make();
+        const Light& light = scene.lights[0];
+        double expected = row.power_integral;
+        if (row.name == "triangles") {
+            const Triangle& t = scene.triangles[0];
+            expected = 2 * kPiD * 0.5 * length(cross(t.p1 - t.p0, t.p2 - t.p0)) * 1.5;
+        }
+        if (row.name == "spot") {
+            // ∫ falloff over the sphere by a fine midpoint rule in cos θ about the axis.
+            const SpotLight& s = std::get<SpotLight>(light);
+            double sum = 0;
+            const int m = 200000;
+            for (int i = 0; i < m; ++i) {
+                const double c = -1 + 2 * (i + 0.5) / m;
+                const Vec3 w = Frame(s.direction).to_world({float(std::sqrt(1 - c * c)), 0.f, float(c)});
+                sum += s.falloff(w);
+            }
+            expected = 2 * kPiD * sum * 2 / m * 1.5;
+        }
+        EXPECT_NEAR(light_power(light), expected, 1e-3 * expected) << row.name;
+        // The same integral through sample_le (its densities must be the ones it samples by).
+        const double mc = emitted_by_sample_le(light, 200000);
+        EXPECT_NEAR(mc, expected, 0.02 * expected) << row.name << " (sample_le)";
+    }
+}
+
+TEST(LightContract, SampleLeAgreesWithPdfLe) {
+    // Each origin's direction density is pdf_le_dir of its direction, and its point density
+    // pdf_le_pos (area lights) or 1 (delta); the plane starts no subpath.
+    for (const Row& row : rows()) {
+        const Scene scene = row.make();
+        const Light& light = scene.lights[0];
+        if (row.name == "plane") {
+            EXPECT_FALSE(light_can_start_subpath(light));
+            EXPECT_FALSE(light_sample_le(light, wavelengths(), 0.5f, 0.5f, 0.5f, 0.5f, 0.5f, 0.f).has_value());
+            continue;
+        }
+        ASSERT_TRUE(light_can_start_subpath(light)) << row.name;
+        std::mt19937_64 rng(23);
+        std::uniform_real_distribution<float> u(0.f, 1.f);
+        spt_test::ConeHistogram h(Vec3(0, 1, 0), -1.0, 8, 8);
+        const int n = 50000;
+        Vec3 n_fixed;
+        const bool fixed_normal = light_type(light) != LightType::area || row.name == "quad" || row.name == "disk" ||
+                            row.name == "triangles";
+        for (int i = 0; i < n; ++i) {
+            const auto o = light_sample_le(light, wavelengths(), u(rng), u(rng), u(rng), u(rng), u(rng), 0.f);
+            ASSERT_TRUE(o.has_value()) << row.name;
+            ASSERT_NEAR(o->pdf_dir, light_pdf_le_dir(light, o->n, o->w), 1e-4 * o->pdf_dir + 1e-7) << row.name;
+            if (light_type(light) == LightType::area) {
+                ASSERT_NEAR(o->pdf_pos, light_pdf_le_pos(light), 1e-6 * o->pdf_pos) << row.name;
+            }
+            if (o->delta_position) {
+                ASSERT_EQ(o->pdf_pos, 1.f) << row.name;
+            }
+            n_fixed = o->n;
+            h.add(o->w);
+        }
+        if (!fixed_normal) continue;  // a sphere's direction density depends on the point
+        const std::vector<double> expected =
+            h.expected([&](const Vec3& w) { return light_pdf_le_dir(light, n_fixed, w); }, n, 16);
+        const spt_test::Chi2Result r = spt_test::chi2_test(h.observed(), expected);
+        EXPECT_GT(r.p_value, kAlpha) << row.name << ": X² = " << r.statistic;
+    }
+}
+
+}  // namespace
