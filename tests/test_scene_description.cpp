@@ -161,3 +161,21 @@ TEST(MaterialTypes, TheUnknownTypeMessageListsTheTable) {
 
 }  // namespace
 }  // namespace spt
+
+namespace spt {
+namespace {
+
+TEST(LightTypes, TheUnknownTypeMessageListsTheTable) {
+    SceneDescription d = sphere_scene(ParamValue::number(1));
+    d.root.set("lights", ParamValue::list({ParamValue::dict({{"type", ParamValue::string("spto", {2, 11})}})}));
+    try {
+        build_scene(d, SpectralResolution{}, kNoFiles);
+        FAIL() << "an unknown light type was accepted";
+    } catch (const LocatedError& e) {
+        EXPECT_EQ(e.what(), std::string("code:2:11: unknown light type \"spto\". Did you mean \"spot\"? Expected "
+                                        "\"point\" or \"spot\" (area lights are shapes with \"emission\")"));
+    }
+}
+
+}  // namespace
+}  // namespace spt

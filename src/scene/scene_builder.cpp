@@ -735,20 +735,39 @@ private:
         m_scene.lights.emplace_back(std::move(s));
     }
 
-    void light(const ParamValue& v) {
-        object(v, "light");
-        const std::string& type = string(required(v, "type", "light"), "light type");
-        if (type == "spot") return spot_light(v);
-        if (type != "point")
-            fail(v.find("type")->pos(), "unknown light type " + quote_text(type) + "." +
-                                            suggestion(type, {"point", "spot"}) +
-                                            " Expected \"point\" or \"spot\" (area lights are shapes with \"emission\")");
+    void point_light(const ParamValue& v) {
         check_keys(v, "point light", {"type", "position", "intensity", "motion"});
         const Vec3 position = point(required(v, "position", "point light"), "point light position");
         m_scene.add_point_light(position, spectrum(required(v, "intensity", "point light"), "point light intensity",
                                                    SpectrumUse::Emission));
         if (const ParamValue* m = v.find("motion"))
             std::get<PointLight>(m_scene.lights.back()).motion = motion(*m, "point light", position);
+    }
+
+    /// A light type of the "lights" section: its name and its create function. Area lights
+    /// are not here: they are shapes with "emission".
+    struct LightType {
+        const char* name;
+        void (Builder::*create)(const ParamValue& v);
+    };
+
+    void light(const ParamValue& v) {
+        static constexpr LightType kLightTypes[] = {
+            {"point", &Builder::point_light},
+            {"spot", &Builder::spot_light},
+        };
+        object(v, "light");
+        const std::string& type = string(required(v, "type", "light"), "light type");
+        std::vector<std::string> names;
+        for (const LightType& t : kLightTypes) {
+            if (type == t.name) return (this->*t.create)(v);
+            names.emplace_back(t.name);
+        }
+        std::string expected;  // "a", "b" or "c"
+        for (std::size_t i = 0; i < names.size(); ++i)
+            expected += (i == 0 ? "" : i + 1 == names.size() ? " or " : ", ") + ("\"" + names[i] + "\"");
+        fail(v.find("type")->pos(), "unknown light type " + quote_text(type) + "." + suggestion(type, names) +
+                                        " Expected " + expected + " (area lights are shapes with \"emission\")");
     }
 };
 
