@@ -5,7 +5,7 @@
 #include <cstdio>
 #include <stdexcept>
 
-#include "scene/json_checker.h"
+#include "scene/param_checker.h"
 
 namespace spt {
 
