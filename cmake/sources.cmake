@@ -1,5 +1,6 @@
 # Explicit source list of the spt_core library (everything but main.cpp).
 set(SPT_CORE_SOURCES
+    src/cli/distinct_files.cpp
     src/cli/flag_warnings.cpp
     src/cli/image_size.cpp
     src/cli/integrator_choice.cpp
@@ -8,6 +9,7 @@ set(SPT_CORE_SOURCES
     src/cli/output_names.cpp
     src/cli/partial_films.cpp
     src/cli/progress_bar.cpp
+    src/cli/render_description.cpp
     src/cli/render_metadata.cpp
     src/core/text.cpp
     src/geometry/bvh.cpp

@@ -12,6 +12,7 @@
 #include <thread>
 #include <vector>
 
+#include "cli/distinct_files.h"
 #include "cli/flag_warnings.h"
 #include "cli/image_size.h"
 #include "cli/integrator_choice.h"
@@ -20,6 +21,7 @@
 #include "cli/output_names.h"
 #include "cli/partial_films.h"
 #include "cli/progress_bar.h"
+#include "cli/render_description.h"
 #include "cli/render_metadata.h"
 #include "io/atomic_file.h"
 #include "io/auto_exposure.h"
@@ -56,14 +58,18 @@ void print_summary(const spt::Scene& scene, const spt::RenderSettings& rs, const
                    const spt::Film& film, const std::string& bins, const std::string& integrator_reason,
                    double load_seconds) {
     const double s = st.seconds > 0 ? st.seconds : 1e-9;
+    // The samples the image holds (whole passes); what was asked for only when it differs.
+    const std::string requested =
+        st.samples_completed == rs.spp ? std::string() : " (of " + std::to_string(rs.spp) + " requested)";
     std::fprintf(stderr,
-                 "%s: %dx%d, %d spp, %s spectral bins, %d thread(s)\n"
+                 "%s: %dx%d, %d spp%s, %s spectral bins, %d thread(s)\n"
                  "  integrator %s (%s)\n"
                  "  scene loaded in %.3f s (BVH built in %.3f s); peak memory %.0f MiB\n"
                  "  time %.2f s, %.3g paths/s, %.3g rays/s (%.3g rays)\n"
                  "  effects: %s\n"
                  "  rejected samples: %llu non-finite, %llu negative\n",
-                 scene.name.c_str(), rs.width, rs.height, rs.spp, bins.c_str(), rs.threads,
+                 scene.name.c_str(), rs.width, rs.height, st.samples_completed, requested.c_str(), bins.c_str(),
+                 rs.threads,
                  spt::integrator_name(rs.integrator.kind), integrator_reason.c_str(), load_seconds,
                  scene.bvh_build_seconds, peak_memory_mib(), st.seconds,
                  double(st.paths) / s, double(st.rays) / s, double(st.rays),
@@ -136,11 +142,11 @@ void print_adaptation(const spt::Options& opt) {
 
 /// SCENE is a built-in name or a path to a scene file (anything ending in .json or naming an
 /// existing file); anything else is a usage error.
-std::optional<spt::Scene> load_scene(const spt::Options& opt) {
-    if (std::optional<spt::Scene> scene = spt::load_builtin_scene(opt.scene, opt.spectral)) return scene;
+std::optional<spt::Scene> load_scene(const spt::Options& opt, spt::InputFiles& files) {
+    if (std::optional<spt::Scene> scene = spt::load_builtin_scene(opt.scene, opt.spectral, &files)) return scene;
     std::error_code ec;
     if (opt.scene.ends_with(".json") || std::filesystem::is_regular_file(opt.scene, ec))
-        return spt::load_scene_file(opt.scene, opt.spectral);
+        return spt::load_scene_file(opt.scene, opt.spectral, &files);
     const std::vector<std::string> builtins = spt::builtin_scene_names();
     throw spt::UsageError("SCENE: expected a scene file (.json) or one of " + spt::join(builtins) + ", got '" +
                           opt.scene + "'." + spt::suggestion(opt.scene, builtins));
@@ -159,7 +165,8 @@ void list_scenes() {
 
 int run(const spt::Options& opt) {
     const auto load_start = std::chrono::steady_clock::now();
-    std::optional<spt::Scene> scene = load_scene(opt);
+    spt::InputFiles scene_files;
+    std::optional<spt::Scene> scene = load_scene(opt, scene_files);
     const double load_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - load_start).count();
     const spt::IntegratorChoice integrator = spt::choose_integrator(opt, *scene);
     if (opt.spectral_bands.count > 0 && integrator.settings.kind != spt::IntegratorKind::path)
@@ -217,27 +224,27 @@ int run(const spt::Options& opt) {
             throw std::runtime_error("cannot write '" + path + "': it is a directory");
     }
 
+    {
+        std::vector<spt::FileRole> files;
+        for (const std::string& path : outputs) {
+            files.push_back({path, "-o", true});
+            if (!partial_film)  // an interrupt or a preview writes the unfinished image there
+                files.push_back({spt::partial_output_name(path), "the unfinished image of -o", true});
+        }
+        if (!opt.checkpoint.empty()) files.push_back({opt.checkpoint, "--checkpoint", true});
+        if (!opt.resume.empty()) files.push_back({opt.resume, "--resume", false});
+        // One image written twice is one image; a checkpoint is resumed and then replaced.
+        spt::check_distinct_files(files, {{"-o", "-o"},
+                                          {"the unfinished image of -o", "the unfinished image of -o"},
+                                          {"--checkpoint", "--resume"}});
+    }
+
     std::optional<spt::Observer> sensor;
     if (!opt.sensor.empty()) sensor.emplace(spt::load_sensor(opt.sensor));
 
     // ---- Checkpoints: what must match to resume, and the state of the last whole pass ----
-    const char* light_sampling[] = {"", " light-sampling=bsdf", " light-sampling=light"};
-    const spt::IntegratorKind kind = rs.integrator.kind;
-    const std::string variant = "wavelengths-per-path=" + std::to_string(opt.wavelengths_per_path) +
-                                light_sampling[static_cast<int>(rs.integrator.light_sampling)] +
-                                (rs.sampler == spt::SamplerKind::sobol ? " sampler=sobol" : "") +
-                                (rs.integrator.caustic_nee ? "" : " caustic-nee=off") +
-                                (rs.integrator.sample_planes ? "" : " plane-nee=off") +
-                                " dispersion=" + (opt.dispersion ? "on" : "off") +
-                                (kind == spt::IntegratorKind::path ? std::string()
-                                    : std::string(" integrator=") + spt::integrator_name(kind)) +
-                                (kind == spt::IntegratorKind::vcm && rs.integrator.merge_radius > 0
-                                     ? " merge-radius=" + std::to_string(rs.integrator.merge_radius) : std::string()) +
-                                (sensor ? " sensor=" + opt.sensor + "#" + std::to_string(sensor->fingerprint())
-                                        : std::string()) +
-                                spt::scene_fingerprint(opt.scene);
-    spt::CheckpointInfo info{opt.scene, variant, rs.width, rs.height, rs.spp, opt.spectral.bins,
-                             rs.integrator.max_depth, rs.seed, 0, rs.first_sample};
+    spt::CheckpointInfo info{spt::describe_render(opt, rs, scene_files, sensor ? &*sensor : nullptr), 0,
+                             rs.first_sample};
     spt::Film film(rs.width, rs.height, sensor ? *sensor : spt::Cie1931::get());
     if (const spt::SpectralBands& bands = opt.spectral_bands; bands.count > 0) {
         film.enable_bands(bands);
@@ -255,9 +262,9 @@ int run(const spt::Options& opt) {
     }
     if (!opt.resume.empty()) {
         const spt::CheckpointInfo saved = spt::read_checkpoint_info(opt.resume);
-        if (!saved.same_render(info))
-            throw std::runtime_error("cannot resume from '" + opt.resume + "': it holds a render of " +
-                                     saved.describe() + ", but this run is " + info.describe());
+        if (const std::string diff = saved.render.difference(info.render); !diff.empty())
+            throw std::runtime_error("cannot resume from '" + opt.resume + "': it holds another render than this "
+                                     "run's (" + diff + ")");
         rs.first_sample = spt::load_checkpoint(opt.resume, film).samples_completed;
         info.samples_completed = rs.first_sample;
         if (!opt.quiet)
@@ -282,7 +289,7 @@ int run(const spt::Options& opt) {
         rs.width, rs.height);
     rs.pass_seconds = spt::preview_pass_seconds(preview_settings);
 
-    spt::ProgressBar bar(!opt.quiet);
+    spt::ProgressBar bar(!opt.quiet, rs.time_limit);
     spt::RenderHooks hooks;
     hooks.progress = [&](std::uint64_t d, std::uint64_t t) { bar.update(d, t); };
     hooks.cancel = &g_cancel;
@@ -307,7 +314,12 @@ int run(const spt::Options& opt) {
         stats.cancelled ? spt::partial_output_names(outputs) : outputs;
     std::optional<double> auto_stops;
     if (!partial_film) {
-        auto_stops = write_outputs(opt, written, film, spt::render_metadata(opt, rs, stats, film.observer()));
+        // An interrupted pass leaves some pixels with more samples than the whole passes hold.
+        const auto [fewest, most] = film.sample_count_range();
+        const std::pair<int, int> per_pixel =
+            stats.cancelled ? std::pair{int(fewest), int(most)} : std::pair{stats.samples_completed, stats.samples_completed};
+        auto_stops = write_outputs(opt, written, film,
+                                   spt::render_metadata(opt, rs, stats, film.observer(), per_pixel));
     } else if (!stats.cancelled) {  // an unfinished part is not written: rendered again, it is whole
         info.samples_completed = stats.samples_completed;
         const std::string state = film.save_state();
@@ -324,6 +336,8 @@ int run(const spt::Options& opt) {
                                      ? "exact"
                                      : std::to_string(opt.spectral.bins);
         print_summary(*scene, rs, stats, film, bins, integrator.reason, load_seconds);
+        if (const std::string note = spt::missed_light_paths(rs.integrator, *scene); !note.empty())
+            std::fprintf(stderr, "  note: %s\n", note.c_str());
         if (stats.time_limited)
             std::fprintf(stderr, "  stopped by --time-limit %g s after %d of %d spp\n", opt.time_limit,
                          stats.samples_completed, rs.spp);
@@ -372,6 +386,13 @@ int run_merge(const std::vector<std::string>& args) {
     if (opt.scene != spt::Options{}.scene)
         throw spt::UsageError("merge: expected partial films (.film), got '" + opt.scene + "'");
     if (opt.outputs.empty() && films.empty()) throw spt::UsageError("merge: expected -o FILE (the merged image)");
+    {
+        std::vector<spt::FileRole> files;
+        for (const std::string& path : parts) files.push_back({path, "the part", false});
+        for (const std::vector<std::string>* list : {&opt.outputs, &films})
+            for (const std::string& path : *list) files.push_back({path, "-o", true});
+        spt::check_distinct_files(files, {{"-o", "-o"}});
+    }
     const spt::MergedParts merged = spt::merge_partial_films(parts);
 
     const std::vector<std::string>& images = opt.outputs;
@@ -385,31 +406,19 @@ int run_merge(const std::vector<std::string>& args) {
             throw std::runtime_error("cannot write '" + films.front() + "': a partial film holds one range of "
                                      "samples, and samples " + merged.missing + " are in no part");
         std::fprintf(stderr, "pathtracer: warning: samples %s of the render are in no part: the image holds "
-                     "%d of %d spp\n", merged.missing.c_str(), merged.samples, merged.info.spp);
+                     "%d of %d spp\n", merged.missing.c_str(), merged.samples, merged.info.render.spp);
     }
     // The render's settings, for the EXR metadata.
-    opt.scene = merged.info.scene;
-    opt.spectral.bins = merged.info.spectral_bins;
-    spt::RenderSettings rs;
-    rs.spp = merged.info.spp;
-    rs.seed = merged.info.seed;
-    rs.integrator.max_depth = merged.info.max_depth;
-    const std::string& variant = merged.info.variant;
-    for (spt::IntegratorKind kind : {spt::IntegratorKind::bdpt, spt::IntegratorKind::vcm})
-        if (variant.find(std::string(" integrator=") + spt::integrator_name(kind)) != std::string::npos)
-            rs.integrator.kind = kind;
-    rs.integrator.wavelengths_per_path = variant.starts_with("wavelengths-per-path=1") ? 1 : 4;
-    rs.sampler = variant.find(" sampler=sobol") != std::string::npos ? spt::SamplerKind::sobol
-                                                                      : spt::SamplerKind::independent;
-    rs.integrator.caustic_nee = variant.find(" caustic-nee=off") == std::string::npos;
-    rs.integrator.sample_planes = variant.find(" plane-nee=off") == std::string::npos;
+    opt.scene = merged.info.render.scene;
+    opt.spectral.bins = merged.info.render.spectral_bins;
+    opt.wavelengths_per_path = merged.info.render.wavelengths_per_path;
+    const spt::RenderSettings rs = spt::settings_of(merged.info.render);
     spt::RenderStats stats;
     stats.samples_completed = merged.samples;
-    std::vector<spt::ExrAttribute> metadata = spt::render_metadata(opt, rs, stats, merged.film->observer());
-    std::string ranges;
-    for (const auto& [first, end] : merged.ranges)
-        ranges += (ranges.empty() ? "" : ", ") + std::to_string(first) + "-" + std::to_string(end);
-    metadata.push_back(spt::ExrAttribute::text("sampleRanges", ranges));
+    std::vector<spt::ExrAttribute> metadata = spt::render_metadata(opt, rs, stats, merged.film->observer(), {merged.samples, merged.samples});
+    std::vector<std::string> ranges;
+    for (const auto& [first, end] : merged.ranges) ranges.push_back(std::to_string(first) + "-" + std::to_string(end));
+    metadata.push_back(spt::ExrAttribute::text("sampleRanges", spt::join(ranges)));
     if (!images.empty()) write_outputs(opt, images, *merged.film, std::move(metadata));
     for (const std::string& path : films)
         spt::save_checkpoint(path, merged.info, merged.film->save_state(), spt::FilmFile::partial);
@@ -417,7 +426,7 @@ int run_merge(const std::vector<std::string>& args) {
         for (const std::vector<std::string>& list : {images, films})
             for (const std::string& path : list)
                 std::fprintf(stderr, "  wrote %s (%zu parts, %d of %d spp)\n", path.c_str(), parts.size(),
-                             merged.samples, merged.info.spp);
+                             merged.samples, merged.info.render.spp);
     return 0;
 }
 

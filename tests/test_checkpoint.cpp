@@ -13,6 +13,7 @@
 #include <thread>
 #include <vector>
 
+#include "exr_reader.h"
 #include "program_process.h"
 
 namespace {
@@ -130,10 +131,11 @@ TEST_F(Checkpoint, SigtermWritesPartialNamesAndExitsWith143) {
 
 /// An interrupt inside the first pass (tiles of 64 spp; the pass is 640x480x64 paths, many
 /// seconds): the partial image holds the tiles finished, 0 samples elsewhere, and is written
-/// like any other; the output is left as it was.
+/// like any other, its EXR header saying so (spp 0, sppPerPixel 0-64); the output is left as
+/// it was.
 TEST_F(Checkpoint, InterruptBeforeTheFirstPassEndsWritesThePartialName) {
     std::ofstream(dir / "keep.pfm", std::ios::binary) << "old";
-    const pid_t pid = spawn_long_render(640, 480, 64, {"keep.pfm"});
+    const pid_t pid = spawn_long_render(640, 480, 64, {"keep.pfm", "new.exr"});
     ASSERT_TRUE(wait_for_log(dir / "log", "progress")) << read_file(dir / "log");
     kill(pid, SIGINT);
     EXPECT_EQ(wait_exit(pid), 130);
@@ -141,6 +143,13 @@ TEST_F(Checkpoint, InterruptBeforeTheFirstPassEndsWritesThePartialName) {
     EXPECT_EQ(read_file(dir / "keep.pfm"), "old");
     EXPECT_EQ(pfm_size(read_file(dir / "keep.partial.pfm")), std::make_pair(640, 480));
     EXPECT_EQ(reported_spp(log, (dir / "keep.partial.pfm").string()), std::make_pair(0, 64)) << log;
+    const std::string exr = read_file(dir / "new.partial.exr");
+    std::size_t at = 0;
+    const auto header = spt::exr_test::parse_exr_header(exr, at);
+    ASSERT_TRUE(header.contains("sppPerPixel")) << "attributes of new.partial.exr";
+    EXPECT_EQ(header.at("sppPerPixel").value, "0-64");
+    EXPECT_EQ(spt::exr_test::le32(header.at("spp").value, 0), 0u);
+    EXPECT_EQ(spt::exr_test::le32(header.at("sppRequested").value, 0), 100000u);
 }
 
 TEST_F(Checkpoint, InterruptedAndResumedEqualsStraightRun) {
@@ -246,7 +255,7 @@ TEST_F(Checkpoint, ResumeWithTheOtherSamplerIsRefused) {
     resume.insert(resume.end(), {"--sampler", "independent", "--resume", ck});
     EXPECT_EQ(run(resume, dir / "log"), 1);
     const std::string log = read_file(dir / "log");
-    EXPECT_NE(log.find("sampler=sobol"), std::string::npos) << log;
+    EXPECT_NE(log.find("sampler sobol, not independent"), std::string::npos) << log;
     EXPECT_FALSE(fs::exists(dir / "b.pfm"));
 }
 

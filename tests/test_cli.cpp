@@ -353,6 +353,103 @@ TEST_F(Cli, RepeatedIdenticalOutputIsFine) {
     EXPECT_EQ(read_file(m_dir / "a.pfm").substr(0, 3), "PF\n");
 }
 
+/// A file given for two roles where writing one destroys the other (the checkpoint and an
+/// output, an output and the checkpoint it resumes from, an output and the unfinished image of
+/// another) is refused before rendering: one line, exit 2, every existing file untouched. Paths
+/// are compared after resolving ".", "..", symbolic links and hard links.
+TEST_F(Cli, OneFileForTwoRolesIsRefusedBeforeRendering) {
+    write_file(m_dir / "out.exr", "old image");
+    write_file(m_dir / "ck.film", "old checkpoint");
+    fs::create_directories(m_dir / "sub");
+    fs::create_directory_symlink(m_dir, m_dir / "link");
+    fs::create_symlink(m_dir / "out.exr", m_dir / "alias.exr");
+    fs::create_hard_link(m_dir / "out.exr", m_dir / "hard.exr");
+    const struct {
+        std::vector<std::string> args;
+        std::string message;
+    } cases[] = {
+        {{"--checkpoint", "out.exr", "-o", "out.exr"}, "-o 'out.exr' is the same file as --checkpoint 'out.exr'"},
+        {{"-o", "out.exr", "--checkpoint", "./sub/../out.exr"}, "-o 'out.exr' is the same file as --checkpoint"},
+        {{"-o", "out.exr", "--checkpoint", (m_dir / "out.exr").string()}, "is the same file as --checkpoint"},
+        {{"-o", "out.exr", "--checkpoint", "link/out.exr"}, "is the same file as --checkpoint 'link/out.exr'"},
+        {{"-o", "out.exr", "--checkpoint", "alias.exr"}, "is the same file as --checkpoint 'alias.exr'"},
+        {{"-o", "out.exr", "--checkpoint", "hard.exr"}, "is the same file as --checkpoint 'hard.exr'"},
+        {{"-o", "out.exr", "--checkpoint", "out.partial.exr"},
+         "the unfinished image of -o 'out.partial.exr' is the same file as --checkpoint"},
+        {{"-o", "out.exr", "-o", "link/out.partial.exr"},
+         "the unfinished image of -o 'out.partial.exr' is the same file as -o 'link/out.partial.exr'"},
+        {{"-o", "ck.film.exr", "--resume", "ck.film.exr"}, "-o 'ck.film.exr' is the same file as --resume"},
+        {{"merge", "ck.film", "-o", "ck.film"}, "the part 'ck.film' is the same file as -o 'ck.film'"},
+        {{"merge", "ck.film", "-o", "out.exr", "-o", "link/ck.film"}, "is the same file as -o 'link/ck.film'"},
+    };
+    for (const auto& c : cases) {
+        const RunResult r = run(c.args);
+        EXPECT_EQ(r.exit_code, 2) << join(c.args) << "\n" << r.err;
+        EXPECT_NE(r.err.find(c.message), std::string::npos) << join(c.args) << "\n" << r.err;
+        EXPECT_TRUE(is_one_line(r.err)) << r.err;
+        EXPECT_EQ(read_file(m_dir / "out.exr"), "old image") << join(c.args);
+        EXPECT_EQ(read_file(m_dir / "ck.film"), "old checkpoint") << join(c.args);
+        EXPECT_FALSE(fs::exists(m_dir / "out.partial.exr")) << join(c.args);
+    }
+    // The checkpoint that is resumed is the one to replace: allowed.
+    const RunResult first = run(tiny({"--checkpoint", "state.ckpt", "-o", "a.exr"}));
+    ASSERT_EQ(first.exit_code, 0) << first.err;
+    const RunResult again = run(tiny({"--checkpoint", "state.ckpt", "--resume", "./state.ckpt", "-o", "a.exr"}));
+    EXPECT_EQ(again.exit_code, 0) << again.err;
+}
+
+/// The summary's first line gives the samples the image holds, and what was asked for when a
+/// time limit stopped the render before.
+TEST_F(Cli, SummaryGivesTheSamplesDone) {
+    const RunResult whole = run({"--width", "8", "--height", "8", "--spp", "3", "-o", "a.pfm"});
+    ASSERT_EQ(whole.exit_code, 0) << whole.err;
+    EXPECT_NE(whole.err.find("cornell: 8x8, 3 spp, "), std::string::npos) << whole.err;
+    const RunResult limited = run({"--width", "32", "--height", "32", "--spp", "1000000", "--pass-spp", "1",
+                                   "--time-limit", "1.5", "-o", "t.pfm"});
+    ASSERT_EQ(limited.exit_code, 0) << limited.err;
+    const std::string marker = "stopped by --time-limit 1.5 s after ";
+    const auto at = limited.err.find(marker);
+    ASSERT_NE(at, std::string::npos) << limited.err;
+    const int spp = std::stoi(limited.err.substr(at + marker.size()));
+    EXPECT_NE(limited.err.find("cornell: 32x32, " + std::to_string(spp) + " spp (of 1000000 requested), "),
+              std::string::npos) << limited.err;
+    // Progress follows the clock, not the 1000000 spp asked for: past half the time it shows
+    // 50 % or more (at the pace of the spp it would show 0 %).
+    int most = -1;
+    const std::regex progress("progress +([0-9]+)%");
+    for (auto it = std::sregex_iterator(limited.err.begin(), limited.err.end(), progress);
+         it != std::sregex_iterator(); ++it)
+        most = std::max(most, std::stoi((*it)[1]));
+    EXPECT_GE(most, 50) << limited.err;
+}
+
+/// The path tracer cannot light a surface from a point light through glass: the summary says
+/// once which integrator can; with vcm, or without the glass, it says nothing.
+TEST_F(Cli, SummaryNamesTheIntegratorForMissedCaustics) {
+    write_file(m_dir / "caustic.json", R"({"camera": {"position": [0, 0, 3], "look_at": [0, 0, 0]},
+      "image": {"width": 8, "height": 8, "spp": 1},
+      "materials": {"grey": {"kd": 0.5}, "glass": {"kt": 1, "ior": 1.5}},
+      "shapes": [{"type": "plane", "normal": [0, 1, 0], "point": [0, -1, 0], "material": "grey"},
+                 {"type": "sphere", "center": [0, 0, 0], "radius": 0.5, "material": "glass"}],
+      "lights": [{"type": "point", "position": [0, 2, 0], "intensity": 3}]})");
+    const std::string note = "note: the path integrator renders no light from point or spot lights through "
+                             "mirrors or glass (caustics); --integrator vcm (or bdpt) renders it";
+    const RunResult path = run({"caustic.json", "-o", "a.pfm"});
+    ASSERT_EQ(path.exit_code, 0) << path.err;
+    const auto at = path.err.find(note);
+    EXPECT_NE(at, std::string::npos) << path.err;
+    EXPECT_EQ(path.err.find(note, at + 1), std::string::npos) << "once: " << path.err;
+    const RunResult vcm = run({"caustic.json", "--integrator", "vcm", "-o", "a.pfm"});
+    ASSERT_EQ(vcm.exit_code, 0) << vcm.err;
+    EXPECT_EQ(vcm.err.find("note:"), std::string::npos) << vcm.err;
+    std::string no_glass = read_file(m_dir / "caustic.json");
+    no_glass.replace(no_glass.find("\"material\": \"glass\""), 19, "\"material\": \"grey\"");
+    write_file(m_dir / "diffuse.json", no_glass);
+    const RunResult diffuse = run({"diffuse.json", "-o", "a.pfm"});
+    ASSERT_EQ(diffuse.exit_code, 0) << diffuse.err;
+    EXPECT_EQ(diffuse.err.find("note:"), std::string::npos) << diffuse.err;
+}
+
 /// Width and height from a PNG file's IHDR chunk ({0, 0} when it is not a PNG).
 std::pair<unsigned, unsigned> png_size(const fs::path& path) {
     const std::string png = read_file(path);

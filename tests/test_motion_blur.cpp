@@ -362,11 +362,23 @@ TEST(MotionBlur, SceneKeys) {
         {"", R"(, "motion": {"keyframes": [{"time": 0}, {"time": 1, "spin": 3}]})", "unknown key \"spin\""},
         {"", R"(, "motion": {"keyframes": [{"time": 0}, {"time": 1, "rotate": {"axis": [0, 0, 0], "degrees": 3}}]})",
          "axis is the zero vector"},
+        // A half turn between two keyframes goes either way round: refused, at its "rotate".
+        {"", R"(, "motion": {"keyframes": [{"time": 0}, {"time": 1, "rotate": {"axis": [0, 1, 0], "degrees": 180}}]})",
+         "motion keyframe rotate turns 180 degrees from the keyframe before, which is ambiguous"},
+        {"", R"(, "motion": {"keyframes": [{"time": 0, "rotate": {"axis": [1, 0, 0], "degrees": 90}},
+                 {"time": 1, "rotate": {"axis": [1, 0, 0], "degrees": -90}}]})", "turns 180 degrees"},
+        {"", R"(, "motion": {"keyframes": [{"time": 0, "rotate": {"axis": [0, 0, 1], "degrees": 540}}, {"time": 1}]})",
+         "turns 180 degrees"},
     };
     for (const auto& e : errors) {
         const std::string message = error_of(box_scene(e.camera, e.sphere));
         EXPECT_NE(message.find(e.message), std::string::npos) << message;
     }
+    // Just short of a half turn, or past it (the shorter arc is then the other way), is clear.
+    for (const char* degrees : {"179.9", "-179.9", "190"})
+        EXPECT_NO_THROW(load(box_scene("", std::string(R"(, "motion": {"keyframes": [{"time": 0}, {"time": 1, "rotate": )"
+                                                       R"({"axis": [0, 1, 0], "degrees": )") + degrees + "}}]}")))
+            << degrees;
     const std::string plane = error_of(R"({"camera": {"position": [0, 0, 3], "look_at": [0, 0, 0]}, "materials": {"g": {"kd": 0.5}},
       "shapes": [{"type": "plane", "normal": [0, 1, 0], "point": [0, 0, 0], "material": "g",
                   "motion": {"keyframes": [{"time": 0}, {"time": 1}]}}]})");

@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "io/checksums.h"
 #include "program_process.h"
 #include "render/renderer.h"
 #include "scene/builtin_scenes.h"
@@ -234,8 +235,8 @@ TEST_F(PartialFilmsCli, BadPartsAreRefusedAndNothingIsWritten) {
     const struct {
         std::string second, reason;
     } cases[] = {{"overlap.film", "overlap those of"},
-                 {"other_seed.film", "it holds a render of"},
-                 {"other_scene.film", "it holds a render of"},
+                 {"other_seed.film", "it holds another render than '" + path("a.film") + "' (seed 4, not 3)"},
+                 {"other_scene.film", "(scene cornell-point, not cornell)"},
                  {"truncated.film", "checksum mismatch"},
                  {"corrupt.film", "checksum mismatch"},
                  {"checkpoint.film", "not a partial film"},
@@ -288,6 +289,107 @@ TEST_F(PartialFilmsCli, UsageErrors) {
         EXPECT_EQ(run(c.args), 2) << c.message;
         EXPECT_NE(log().find(c.message), std::string::npos) << log();
     }
+}
+
+/// A part records every file its scene read and the build: a mesh or texture replaced between
+/// parts is refused, naming the file; the same files merge.
+TEST_F(PartialFilmsCli, PartsOfChangedInputsAreRefusedNamingTheFile) {
+    const std::string ply = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                            "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
+                            "end_header\n-1 -1 -1\n1 -1 -1\n0 1 -1\n3 0 1 2\n";
+    const std::string texture = "P3\n2 1\n255\n255 0 0 0 0 255\n";
+    std::ofstream(dir / "scene.json") << R"({"camera": {"position": [0, 0, 3], "look_at": [0, 0, 0]},
+      "image": {"width": 12, "height": 8, "spp": 4},
+      "textures": {"t": {"type": "image", "file": "tex.ppm"}},
+      "materials": {"grey": {"kd": 0.5}, "pic": {"kd": {"texture": "t"}}},
+      "shapes": [{"type": "mesh", "file": "mesh.ply", "material": "grey"},
+                 {"type": "sphere", "center": [0, 0, 0], "radius": 0.6, "material": "pic"}],
+      "lights": [{"type": "point", "position": [0, 2, 2], "intensity": 5}]})";
+    auto write_inputs = [&](const std::string& mesh, const std::string& tex) {
+        std::ofstream(dir / "mesh.ply", std::ios::binary) << mesh;
+        std::ofstream(dir / "tex.ppm", std::ios::binary) << tex;
+    };
+    const std::vector<std::string> render = {path("scene.json"), "--integrator", "vcm", "--seed", "2", "--quiet"};
+    write_inputs(ply, texture);
+    part(render, 0, 2, "a.film");
+    part(render, 2, 4, "b.film");
+    std::string moved = ply;
+    moved.replace(moved.find("0 1 -1"), 6, "0 2 -1");
+    write_inputs(moved, texture);
+    part(render, 2, 4, "mesh.film");
+    std::string recoloured = texture;
+    recoloured.replace(recoloured.find("255 0 0"), 7, "0 255 0");
+    write_inputs(ply, recoloured);
+    part(render, 2, 4, "texture.film");
+    for (const auto& [second, file] : {std::pair{"mesh.film", "mesh.ply"}, std::pair{"texture.film", "tex.ppm"}}) {
+        EXPECT_EQ(run({"merge", path("a.film"), path(second), "-o", path("out.pfm")}), 1) << log();
+        EXPECT_NE(log().find("cannot merge '" + path(second) + "': it holds another render than '" + path("a.film") +
+                             "' (the file '" + path(file) + "' differs"),
+                  std::string::npos) << log();
+        EXPECT_FALSE(fs::exists(dir / "out.pfm"));
+    }
+    ASSERT_EQ(run({"merge", path("a.film"), path("b.film"), "-o", path("out.pfm")}), 0) << log();
+    // And a checkpoint does not resume over a replaced mesh either.
+    std::vector<std::string> checkpointed = render;
+    checkpointed.insert(checkpointed.end(), {"--checkpoint", path("c.ckpt"), "-o", path("c.pfm")});
+    write_inputs(ply, texture);
+    ASSERT_EQ(run(checkpointed), 0) << log();
+    write_inputs(moved, texture);
+    std::vector<std::string> resumed = render;
+    resumed.insert(resumed.end(), {"--resume", path("c.ckpt"), "-o", path("r.pfm")});
+    EXPECT_EQ(run(resumed), 1);
+    EXPECT_NE(log().find("the file '" + path("mesh.ply") + "' differs"), std::string::npos) << log();
+}
+
+/// The header of a part with `key`'s line replaced by `line` and the checksum recomputed (an
+/// edit by hand that the checksum cannot catch).
+std::string edited_part(const std::string& bytes, const std::string& key, const std::string& line) {
+    const std::size_t at = bytes.find("\n" + key + " ");
+    EXPECT_NE(at, std::string::npos) << key;
+    const std::size_t end = bytes.find('\n', at + 1);
+    std::string body = bytes.substr(0, at + 1) + line + bytes.substr(end, bytes.size() - 8 - end);
+    const std::uint64_t sum = fnv1a64(body);
+    body.append(reinterpret_cast<const char*>(&sum), sizeof sum);
+    return body;
+}
+
+/// Every header field is range-checked: an edited part is refused with the field and its range
+/// (not std::bad_alloc), and a part of another build (its build id) is refused.
+TEST_F(PartialFilmsCli, EditedHeadersAreRefusedNamingTheField) {
+    part(kVcm, 0, 4, "a.film");
+    part(kVcm, 4, 9, "b.film");
+    const std::string bytes = ::test::read_file(dir / "b.film");
+    const struct {
+        std::string key, line, message;
+    } cases[] = {
+        {"spp", "spp -5", "header field 'spp' is -5; expected an integer from 1 to 1000000"},
+        {"size", "size 1000000 12", "header field 'width' is 1000000; expected an integer from 1 to 65536"},
+        {"size", "size 65536 65536", "the film data"},
+        {"seed", "seed x", "header field 'seed' is x"},
+        {"samples", "samples 9 4", "header field 'samples' is 9 4"},
+        {"samples", "samples 4 10", "header field 'samples' is 4 10"},
+        {"integrator", "integrator magic", "header field 'integrator' is magic"},
+        {"merge-radius", "merge-radius nan", "header field 'merge-radius' is nan"},
+        {"spectral-bins", "spectral-bins 5000", "header field 'spectral-bins' is 5000"},
+        {"max-depth", "max-depth -7", "header field 'max-depth' is -7"},
+        {"dispersion", "dispersion maybe", "header field 'dispersion' is maybe; expected on or off"},
+        {"scene", "scene 99:cornell", "header field 'scene' is malformed"},
+        {"sampler", "colour red", "unknown header field 'colour'"},
+        {"sampler", "spp 9", "header field 'spp' appears twice"},
+        {"program", "program 0123456789abcdef", "another build of the program"},
+    };
+    for (const auto& c : cases) {
+        std::ofstream(dir / "edited.film", std::ios::binary) << edited_part(bytes, c.key, c.line);
+        EXPECT_EQ(run({"merge", path("a.film"), path("edited.film"), "-o", path("out.exr")}), 1) << c.line;
+        EXPECT_NE(log().find("cannot merge '" + path("edited.film") + "': "), std::string::npos) << log();
+        const std::string message = log();
+        EXPECT_NE(message.find(c.message), std::string::npos) << c.line << "\n" << message;
+        EXPECT_EQ(std::count(message.begin(), message.end(), '\n'), 1) << message;
+        EXPECT_FALSE(fs::exists(dir / "out.exr")) << c.line;
+    }
+    // The unedited part (negative control of the helper) merges.
+    std::ofstream(dir / "edited.film", std::ios::binary) << edited_part(bytes, "spp", "spp 9");
+    EXPECT_EQ(run({"merge", path("a.film"), path("edited.film"), "-o", path("out.exr")}), 0) << log();
 }
 
 /// An interrupted part writes nothing (a part holds whole passes; a rerun makes it whole).

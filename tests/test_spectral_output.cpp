@@ -92,7 +92,16 @@ TEST(Sensor, ErrorsNameFileLineAndColumn) {
         {"wavelength_nm,r,g,b\n400,1,1,1\n", "s.csv: expected at least two rows"},
         {"wavelength_nm,r,g,b\n400,1,0,1\n500,1,0,1\n",
          "the second response (y or g) integrates to zero"},
+        // Beyond the float range the curves would hold +Inf (and every image with them).
+        {"wavelength_nm,r,g,b\n400,1,1,1\n500,1,1e39,1\n",
+         "s.csv:3:7: sensitivity g is 1e+39; expected a finite number of at most 3.40282e+38"},
+        {"wavelength_nm,r,g,b\n400,1e300,1,1\n500,1,1,1\n", "s.csv:2:5: sensitivity r is 1e+300"},
+        {"wavelength_nm,r,g,b\n400,1,1,1\n500,1,1,1e400\n", "s.csv:3:9: expected a number, got '1e400'"},
+        {"wavelength_nm,r,g,b\n400,1,1,1\n500,1,1,inf\n", "s.csv:3:9: expected a number, got 'inf'"},
+        {"wavelength_nm,r,g,b\n400,1,1,1\nnan,1,1,1\n", "s.csv:3:1: expected a number, got 'nan'"},
     };
+    // The largest float is accepted.
+    EXPECT_NO_THROW(parse_sensor("wavelength_nm,r,g,b\n400,1,1,1\n500,1,3.4028234e38,1\n", "s.csv"));
     for (const auto& [text, message] : cases) {
         try {
             parse_sensor(text, "s.csv");

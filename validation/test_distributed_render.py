@@ -1,12 +1,16 @@
 """The Dask driver (validation/distributed_render) on a LocalCluster of two workers renders
-an image bit-identical to one process, also when a worker is killed during the render or a
-part's process fails (the task is retried)."""
+an image bit-identical to one process, also when a worker is killed during the render (its
+temporary folder is removed) or a part's process fails (the task is retried); the program's
+own one-line error reaches the user, without a Python traceback."""
 
 from __future__ import annotations
 
 import os
 import signal
 import stat
+import subprocess
+import sys
+import tempfile
 import threading
 import time
 from pathlib import Path
@@ -16,7 +20,7 @@ import pytest
 distributed = pytest.importorskip("distributed")
 from distributed import Client, LocalCluster  # noqa: E402
 
-from distributed_render import render, split_passes  # noqa: E402
+from distributed_render import RenderError, render, split_passes  # noqa: E402
 
 # Passes of 4e6 / (200 * 100) = 200 spp: 4 passes of about a second each on one thread.
 RENDER = ["cornell", "--width", "200", "--height", "100", "--spp", "800", "--max-depth", "2",
@@ -75,6 +79,7 @@ def test_killed_worker_part_is_rendered_again(client, pathtracer, reference, tmp
                 worker = sorted(busy)[0]
                 pid = client.run(os.getpid, workers=[worker])[worker]
                 killed["tasks"] = client.processing()[worker]
+                killed["pid"] = pid
                 os.kill(pid, signal.SIGKILL)
                 killed["worker"] = worker
                 return
@@ -89,6 +94,10 @@ def test_killed_worker_part_is_rendered_again(client, pathtracer, reference, tmp
     assert killed["tasks"], "it was rendering a part when killed"
     assert sorted(p.passes for p in parts) == [(0, 1), (1, 2), (2, 3), (3, 4)]
     assert out.read_bytes() == reference
+    # The killed worker could not remove its part's folder: the driver did.
+    killed_pid = killed["pid"]
+    left = list(Path(tempfile.gettempdir()).glob(f"spt-part-{killed_pid}-*"))
+    assert not left, left
 
 
 def test_failed_part_process_is_retried(client, pathtracer, reference, tmp_path):
@@ -104,3 +113,33 @@ def test_failed_part_process_is_retried(client, pathtracer, reference, tmp_path)
     render(client, RENDER, [str(out)], pathtracer=str(wrapper), parts=2, retries=2, progress=None)
     assert marker.exists(), "one part failed"
     assert out.read_bytes() == reference
+
+
+def test_program_errors_reach_the_user_without_a_traceback(pathtracer, tmp_path):
+    """The command line prints the program's message and exits with its status."""
+    def driver(*args):
+        return subprocess.run([sys.executable, "-m", "distributed_render", "--workers", "1",
+                               "--pathtracer", str(pathtracer), "--", *args],
+                              cwd=Path(__file__).resolve().parent, capture_output=True, text=True)
+    bad_scene = driver("no-such-scene", "-o", str(tmp_path / "x.png"))
+    assert bad_scene.returncode == 2, bad_scene.stderr
+    assert "pathtracer: SCENE: expected a scene file (.json) or one of" in bad_scene.stderr
+    assert "Traceback" not in bad_scene.stderr
+    bad_output = driver("cornell", "--width", "8", "--height", "8", "--spp", "1",
+                        "-o", str(tmp_path / "no-such-folder" / "x.png"))
+    assert bad_output.returncode == 1, bad_output.stderr
+    assert f"cannot write '{tmp_path / 'no-such-folder' / 'x.png'}'" in bad_output.stderr
+    assert "Traceback" not in bad_output.stderr
+
+
+def test_part_that_keeps_failing_raises_the_programs_message(client, pathtracer, tmp_path):
+    wrapper = tmp_path / "broken-pathtracer"
+    wrapper.write_text('#!/bin/sh\n'
+                       'case " $* " in *" --passes "*) echo "pathtracer: out of luck" >&2; exit 3;; esac\n'
+                       f'exec "{pathtracer}" "$@"\n')
+    wrapper.chmod(wrapper.stat().st_mode | stat.S_IXUSR)
+    with pytest.raises(RenderError, match=r"^passes \d+:\d+ on .*: pathtracer: out of luck$") as error:
+        render(client, RENDER, [str(tmp_path / "x.pfm")], pathtracer=str(wrapper), parts=2, retries=1,
+               progress=None)
+    assert error.value.exit_code == 3
+    assert not (tmp_path / "x.pfm").exists()

@@ -50,4 +50,17 @@ IntegratorChoice choose_integrator(const Options& options, const Scene& scene) {
     return c;
 }
 
+std::string missed_light_paths(const IntegratorSettings& settings, const Scene& scene) {
+    const Effects& e = scene.effects;
+    if (settings.kind != IntegratorKind::path || !e.point_lights || !(e.mirror || e.transmission)) return "";
+    // The bidirectional integrators trace paths from the lights; vcm merges the caustic ones
+    // best, but has no media or motion blur, and bdpt no heterogeneous media.
+    const bool heterogeneous = std::any_of(scene.media.begin(), scene.media.end(),
+                                           [](const Medium& m) { return !m.is_uniform(); });
+    if (heterogeneous) return "";
+    const char* instead = e.media || e.motion_blur ? "--integrator bdpt" : "--integrator vcm (or bdpt)";
+    return std::string("the path integrator renders no light from point or spot lights through "
+                       "mirrors or glass (caustics); ") + instead + " renders it";
+}
+
 }  // namespace spt

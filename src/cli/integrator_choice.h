@@ -21,4 +21,10 @@ struct IntegratorChoice {
 /// vcm refuses motion blur, rather than render a silently wrong image.
 IntegratorChoice choose_integrator(const Options& options, const Scene& scene);
 
+/// One line for the summary when the chosen integrator cannot sample light paths the scene's
+/// effects call for, naming the integrator that can ("" when none is missed): the path
+/// tracer's next-event estimation cannot connect to a point or spot light through a specular
+/// or refracting surface, and a path never hits such a light, so their caustics are black.
+std::string missed_light_paths(const IntegratorSettings& settings, const Scene& scene);
+
 }  // namespace spt

@@ -158,10 +158,9 @@ Options:
                          through smooth glass spheres and off shiny ones (caustics of
                          emitting spheres and quads under glass balls and reflected by
                          mirror-coated or glass balls, weighted by MIS; default on)
-  --plane-nee on|off     path: next-event estimation to emitting infinite planes (the
-                         cornell ceiling), drawn from what the other planes leave open
-                         (default on: about 4x lower relMSE on cornell at 3 to 4x the
-                         time per path; off: emission found by BSDF sampling only)
+  --plane-nee on|off     path: next-event estimation to emitting infinite planes (an
+                         emitting ceiling), drawn from what the other planes leave open
+                         (default on; off: emission found by BSDF sampling only)
   --merge-radius R       vcm: merging radius of the first pass in scene units (default:
                          five pixel footprints at the median distance the camera sees,
                          less where a pilot finds photons dense; at most 1% of the scene)

@@ -3,11 +3,9 @@
 #include <algorithm>
 #include <charconv>
 #include <cstdio>
-#include <fstream>
-#include <sstream>
 #include <stdexcept>
 
-#include "scene/scene_loader.h"
+#include "scene/param_checker.h"
 
 namespace spt {
 
@@ -68,17 +66,6 @@ std::pair<int, int> pass_samples(const RenderSettings& settings, std::pair<int, 
     return {passes.first * chunk, std::min(settings.spp, passes.second * chunk)};
 }
 
-std::string scene_fingerprint(const std::string& scene) {
-    const std::vector<std::string> builtins = builtin_scene_names();
-    if (std::find(builtins.begin(), builtins.end(), scene) != builtins.end()) return "";
-    std::ifstream in(scene, std::ios::binary);
-    std::ostringstream bytes;
-    bytes << in.rdbuf();
-    char hex[17];
-    std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(fnv1a(bytes.str())));
-    return std::string(" scene-file-fnv1a=") + hex;
-}
-
 namespace {
 
 std::string range_text(int first, int end) { return std::to_string(first) + "-" + std::to_string(end); }
@@ -95,10 +82,9 @@ MergedParts merge_partial_films(const std::vector<std::string>& paths) {
     for (const std::string& path : paths) {
         parts.push_back({path, read_checkpoint_info(path, FilmFile::partial)});
         const Part& p = parts.back();
-        if (!p.info.same_render(parts.front().info))
-            throw std::runtime_error("cannot merge '" + path + "': it holds a render of " + p.info.describe() +
-                                     ", but '" + parts.front().path + "' holds " +
-                                     parts.front().info.describe());
+        if (const std::string diff = p.info.render.difference(parts.front().info.render); !diff.empty())
+            throw std::runtime_error("cannot merge '" + path + "': it holds another render than '" +
+                                     parts.front().path + "' (" + diff + ")");
     }
     std::stable_sort(parts.begin(), parts.end(),
                      [](const Part& a, const Part& b) { return a.info.first_sample < b.info.first_sample; });
@@ -113,9 +99,9 @@ MergedParts merge_partial_films(const std::vector<std::string>& paths) {
                                      ")");
     }
     int covered = 0;
+    std::vector<std::string> missing;
     for (const Part& p : parts) {
-        if (p.info.first_sample > covered)
-            m.missing += (m.missing.empty() ? "" : ", ") + range_text(covered, p.info.first_sample);
+        if (p.info.first_sample > covered) missing.push_back(range_text(covered, p.info.first_sample));
         if (!m.ranges.empty() && m.ranges.back().second == p.info.first_sample)
             m.ranges.back().second = p.info.samples_completed;
         else
@@ -123,13 +109,14 @@ MergedParts merge_partial_films(const std::vector<std::string>& paths) {
         m.samples += p.info.samples_completed - p.info.first_sample;
         covered = p.info.samples_completed;
     }
-    if (covered < m.info.spp) m.missing += (m.missing.empty() ? "" : ", ") + range_text(covered, m.info.spp);
+    if (covered < m.info.render.spp) missing.push_back(range_text(covered, m.info.render.spp));
+    m.missing = join(missing);
     m.info.first_sample = m.ranges.front().first;
     m.info.samples_completed = m.ranges.back().second;
 
-    m.film = std::make_unique<Film>(m.info.width, m.info.height);
+    m.film = std::make_unique<Film>(m.info.render.width, m.info.render.height);
     for (const Part& p : parts) {
-        Film film(m.info.width, m.info.height);
+        Film film(m.info.render.width, m.info.render.height);
         load_checkpoint(p.path, film, FilmFile::partial);
         if (!film.is_folded())
             throw std::runtime_error("cannot merge '" + p.path + "': its sums are not folded (not a whole "

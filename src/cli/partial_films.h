@@ -31,11 +31,6 @@ int pass_count(const RenderSettings& settings);
 /// Samples [first, end) of passes [A, B). Throws UsageError when B exceeds pass_count.
 std::pair<int, int> pass_samples(const RenderSettings& settings, std::pair<int, int> passes);
 
-/// What tells scene files apart beyond their name: " scene-file-fnv1a=<hash of the file's
-/// bytes>" for a scene file, "" for a built-in scene (part of the settings a checkpoint or a
-/// partial film must share).
-std::string scene_fingerprint(const std::string& scene);
-
 /// The parts' films merged.
 struct MergedParts {
     CheckpointInfo info;  ///< the render's; first_sample/samples_completed: the range held,
@@ -49,7 +44,7 @@ struct MergedParts {
 
 /// Reads and merges partial films. Throws std::runtime_error naming the file and the reason
 /// when one is unreadable, truncated or corrupt, belongs to another render (scene, settings,
-/// seed, size) than the first, or overlaps another part.
+/// seed, size, input files, program build) than the first, or overlaps another part.
 MergedParts merge_partial_films(const std::vector<std::string>& paths);
 
 }  // namespace spt

@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <string>
 
@@ -21,14 +22,15 @@ std::string format_seconds(double s) {
 
 }  // namespace
 
-ProgressBar::ProgressBar(bool enabled)
-    : m_enabled(enabled), m_terminal(isatty(STDERR_FILENO)), m_start(std::chrono::steady_clock::now()) {}
+ProgressBar::ProgressBar(bool enabled, double time_limit)
+    : m_enabled(enabled), m_time_limit(time_limit), m_terminal(isatty(STDERR_FILENO)), m_start(std::chrono::steady_clock::now()) {}
 
 void ProgressBar::update(std::uint64_t done, std::uint64_t total) {
     if (!m_enabled || total == 0) return;
-    const double fraction = static_cast<double>(done) / static_cast<double>(total);
     const double elapsed =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - m_start).count();
+    double fraction = static_cast<double>(done) / static_cast<double>(total);
+    if (m_time_limit > 0) fraction = std::min(1.0, std::max(fraction, elapsed / m_time_limit));
     const std::string eta = fraction > 0 ? format_seconds(elapsed * (1 - fraction) / fraction) : "?";
     if (m_terminal) {
         constexpr int kWidth = 40;

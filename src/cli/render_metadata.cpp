@@ -27,11 +27,14 @@ std::string utc_cap_date() {
 }  // namespace
 
 std::vector<ExrAttribute> render_metadata(const Options& opt, const RenderSettings& rs,
-                                          const RenderStats& stats, const Observer& observer) {
+                                          const RenderStats& stats, const Observer& observer,
+                                          std::pair<int, int> samples_per_pixel) {
+    const auto [fewest, most] = samples_per_pixel;
     std::vector<ExrAttribute> a = {
         ExrAttribute::text("software", std::string("pathtracer ") + SPT_VERSION),
         ExrAttribute::text("scene", opt.scene),
-        ExrAttribute::integer("spp", stats.samples_completed),
+        ExrAttribute::integer("spp", fewest),
+        ExrAttribute::text("sppPerPixel", std::to_string(fewest) + (most == fewest ? "" : "-" + std::to_string(most))),
         ExrAttribute::integer("sppRequested", rs.spp),
         ExrAttribute::text("integrator", integrator_name(rs.integrator.kind)),
         ExrAttribute::text("seed", std::to_string(rs.seed)),

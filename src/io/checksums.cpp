@@ -31,4 +31,10 @@ std::uint32_t adler32(std::string_view data) {
     return b << 16 | a;
 }
 
+std::uint64_t fnv1a64(std::string_view data) {
+    std::uint64_t h = 0xcbf29ce484222325ull;
+    for (unsigned char c : data) h = (h ^ c) * 0x100000001b3ull;
+    return h;
+}
+
 }  // namespace spt

@@ -1,5 +1,5 @@
-// The checksums of PNG files: CRC-32 of each chunk and Adler-32 of the zlib stream (shared
-// by the PNG writer and the PNG reader with its inflate).
+// Checksums: CRC-32 and Adler-32 of PNG files (shared by the PNG writer and the PNG reader
+// with its inflate), FNV-1a of checkpoints and of the files a render reads (their fingerprint).
 #pragma once
 #include <cstdint>
 #include <string_view>
@@ -11,5 +11,8 @@ std::uint32_t crc32(std::string_view data);
 
 /// Adler-32 (RFC 1950 §8) of `data`.
 std::uint32_t adler32(std::string_view data);
+
+/// FNV-1a 64-bit hash of `data`.
+std::uint64_t fnv1a64(std::string_view data);
 
 }  // namespace spt

@@ -138,6 +138,12 @@ private:
                 const double degrees = number_in(required(*r, "degrees", rot), rot + " degrees", -1e6, 1e6);
                 key.rotation = Quaternion::axis_angle(axis, static_cast<float>(degrees * kPiDouble / 180.0));
             }
+            // A half turn between keyframes (quaternions orthogonal, within about 0.01°) has two
+            // shorter arcs, either way round: the motion would be a guess.
+            if (!m.keys.empty() && std::fabs(dot(m.keys.back().rotation, key.rotation)) < 1e-4f)
+                fail(k.find("rotate") ? k.find("rotate")->pos() : k.pos(),
+                     key_what + " rotate turns 180 degrees from the keyframe before, which is ambiguous (either "
+                                "way round is as short); expected a keyframe in between");
             m.keys.push_back(key);
         }
         return m;

@@ -3,9 +3,11 @@
 // reported as one LocatedError "file:line:column: what is wrong; expected what". Defined in
 // scene_readers.cpp.
 #pragma once
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "scene/scene.h"
@@ -25,18 +27,25 @@ struct SceneReader {
 /// listed ending.
 const std::vector<SceneReader>& scene_readers();
 
+/// Every file a scene was read from, once each: the scene text first (under `origin`), then
+/// each mesh, texture and grid it loads (under its display name), with the FNV-1a hash of its
+/// bytes (what checkpoints and partial films fingerprint).
+using InputFiles = std::vector<std::pair<std::string, std::uint64_t>>;
+
 /// Parses and checks a scene; `origin` names the text in messages and its ending picks the
-/// reader. Throws LocatedError.
+/// reader. Fills `input_files` when given. Throws LocatedError.
 Scene load_scene_text(std::string_view text, const std::string& origin, const std::string& scene_name,
-                      SpectralResolution resolution, const RelativeFileReader& read_relative);
+                      SpectralResolution resolution, const RelativeFileReader& read_relative,
+                      InputFiles* input_files = nullptr);
 
 /// Loads a scene file from disk; meshes are found relative to its folder. Throws LocatedError.
-Scene load_scene_file(const std::string& path, SpectralResolution resolution);
+Scene load_scene_file(const std::string& path, SpectralResolution resolution, InputFiles* input_files = nullptr);
 
 /// Names of the scenes compiled into the program (scenes/*.json), the default "cornell" first.
 std::vector<std::string> builtin_scene_names();
 
 /// A built-in scene by name (loaded from its embedded file), or nullopt if there is none.
-std::optional<Scene> load_builtin_scene(const std::string& name, SpectralResolution resolution);
+std::optional<Scene> load_builtin_scene(const std::string& name, SpectralResolution resolution,
+                                        InputFiles* input_files = nullptr);
 
 }  // namespace spt

@@ -7,6 +7,7 @@
 #include <fstream>
 #include <iterator>
 
+#include "io/checksums.h"
 #include "io/embedded_files.h"
 #include "scene/json_scene_reader.h"
 #include "scene/scene_builder.h"
@@ -45,14 +46,25 @@ const std::vector<SceneReader>& scene_readers() {
 }
 
 Scene load_scene_text(std::string_view text, const std::string& origin, const std::string& scene_name,
-                      SpectralResolution resolution, const RelativeFileReader& read_relative) {
+                      SpectralResolution resolution, const RelativeFileReader& read_relative,
+                      InputFiles* input_files) {
+    InputFiles inputs{{origin, fnv1a64(text)}};
+    const RelativeFileReader recording = [&](const std::string& rel, std::string& contents, std::string& display,
+                                             std::string& why) {
+        if (!read_relative(rel, contents, display, why)) return false;
+        const auto same = [&](const auto& input) { return input.first == display; };
+        if (std::none_of(inputs.begin(), inputs.end(), same)) inputs.emplace_back(display, fnv1a64(contents));
+        return true;
+    };
     const SceneReader* reader = &scene_readers().front();
     for (const SceneReader& r : scene_readers())
         if (origin.ends_with(r.extension)) reader = &r;
-    return build_scene(reader->read(text, origin, scene_name), resolution, read_relative);
+    Scene scene = build_scene(reader->read(text, origin, scene_name), resolution, recording);
+    if (input_files) *input_files = std::move(inputs);
+    return scene;
 }
 
-Scene load_scene_file(const std::string& path, SpectralResolution resolution) {
+Scene load_scene_file(const std::string& path, SpectralResolution resolution, InputFiles* input_files) {
     std::string error;
     const std::string text = read_whole_file(path, error);
     if (!error.empty()) throw LocatedError(path, {1, 1}, "cannot read the scene file: " + error + "; expected a readable JSON file");
@@ -64,7 +76,7 @@ Scene load_scene_file(const std::string& path, SpectralResolution resolution) {
         contents = read_whole_file(full, why);
         return why.empty();
     };
-    return load_scene_text(text, path, std::filesystem::path(path).stem().string(), resolution, reader);
+    return load_scene_text(text, path, std::filesystem::path(path).stem().string(), resolution, reader, input_files);
 }
 
 std::vector<std::string> builtin_scene_names() {
@@ -81,7 +93,8 @@ std::vector<std::string> builtin_scene_names() {
     return names;
 }
 
-std::optional<Scene> load_builtin_scene(const std::string& name, SpectralResolution resolution) {
+std::optional<Scene> load_builtin_scene(const std::string& name, SpectralResolution resolution,
+                                        InputFiles* input_files) {
     if (name.find('/') != std::string::npos) return std::nullopt;
     const std::string file = "scenes/" + name + ".json";
     const EmbeddedFile* embedded = find_embedded(file);
@@ -97,7 +110,7 @@ std::optional<Scene> load_builtin_scene(const std::string& name, SpectralResolut
         contents = f->bytes();
         return true;
     };
-    return load_scene_text(embedded->text, file, name, resolution, reader);
+    return load_scene_text(embedded->text, file, name, resolution, reader, input_files);
 }
 
 }  // namespace spt

@@ -2,6 +2,7 @@
 #include "spectral/sensor.h"
 
 #include <cstdio>
+#include <limits>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
@@ -42,13 +43,21 @@ Observer parse_sensor(std::string_view text, const std::string& origin) {
     const std::vector<double>& l = table.wavelengths_nm;
     if (l.size() < 2) throw std::runtime_error(origin + ": expected at least two rows");
     for (std::size_t row = 0; row < l.size(); ++row) {
-        if (l[row] < kLambdaMin || l[row] > kLambdaMax)
+        if (!(l[row] >= kLambdaMin && l[row] <= kLambdaMax))  // NaN too
             fail(row, 0, "wavelength " + format_nm(l[row]) +
                              " nm is outside 360-830 nm, the range the film integrates over");
-        for (int c = 0; c < 3; ++c)
-            if (table.columns[c][row] < 0.0)
+        for (int c = 0; c < 3; ++c) {
+            const double v = table.columns[c][row];
+            if (v < 0.0)
                 fail(row, c + 1,
                      "sensitivity " + table.column_names[c + 1] + " is negative; expected >= 0");
+            // The curves are held as floats: a larger value would become +Inf in every image.
+            if (!(v <= std::numeric_limits<float>::max()))
+                fail(row, c + 1,
+                     "sensitivity " + table.column_names[c + 1] + " is " + format_nm(v) +
+                         "; expected a finite number of at most " +
+                         format_nm(std::numeric_limits<float>::max()) + " (the float range)");
+        }
     }
     // Linear between rows, 0 outside them: the same curve colour-science's linear interpolation
     // gives on the data's own range.

@@ -7,6 +7,6 @@ which makes the image one uninterrupted render would have made, bit for bit.
 See README.md in this folder.
 """
 
-from .driver import PartResult, plan_passes, render, split_passes
+from .driver import PartResult, RenderError, plan_passes, remove_orphaned_part_folders, render, split_passes
 
-__all__ = ["PartResult", "plan_passes", "render", "split_passes"]
+__all__ = ["PartResult", "RenderError", "plan_passes", "remove_orphaned_part_folders", "render", "split_passes"]

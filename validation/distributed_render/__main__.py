@@ -17,7 +17,7 @@ from pathlib import Path
 
 from distributed import Client, LocalCluster
 
-from .driver import render
+from .driver import RenderError, render
 
 
 def main(argv: list[str]) -> int:
@@ -56,9 +56,13 @@ def main(argv: list[str]) -> int:
         client = Client(LocalCluster(n_workers=opts.workers, threads_per_worker=opts.threads_per_worker))
     with client:
         print(f"dashboard: {client.dashboard_link}", file=sys.stderr)
-        render(client, render_args, outputs, pathtracer=opts.pathtracer, parts=opts.parts,
-               upload_binary=opts.upload_binary, upload_scene=opts.upload_scene,
-               keep_parts=opts.keep_parts, progress=lambda m: print(m, file=sys.stderr))
+        try:
+            render(client, render_args, outputs, pathtracer=opts.pathtracer, parts=opts.parts,
+                   upload_binary=opts.upload_binary, upload_scene=opts.upload_scene,
+                   keep_parts=opts.keep_parts, progress=lambda m: print(m, file=sys.stderr))
+        except RenderError as e:  # the program's own message says what is wrong: no traceback
+            print(e, file=sys.stderr)
+            return e.exit_code
     return 0
 
 

@@ -17,12 +17,57 @@ from typing import Callable, Sequence
 from distributed import Client, as_completed
 
 
+class RenderError(RuntimeError):
+    """The program failed: the message is its own one-line error (and where it ran).
+    `exit_code` is the program's exit status."""
+
+    def __init__(self, message: str, exit_code: int = 1):
+        super().__init__(message)
+        self.exit_code = exit_code
+
+    def __reduce__(self):  # from a worker to the driver with its exit status
+        return (RenderError, (str(self), self.exit_code))
+
+
+def _run_program(cmd: Sequence[str], where: str = "", **kwargs) -> subprocess.CompletedProcess:
+    """Runs the program; raises RenderError with its message (stderr) when it fails."""
+    proc = subprocess.run(list(cmd), capture_output=True, text=True, **kwargs)
+    if proc.returncode != 0:
+        message = proc.stderr.strip() or f"{Path(cmd[0]).name} exited with status {proc.returncode}"
+        raise RenderError(f"{where}{message}", proc.returncode)
+    return proc
+
+
 def plan_passes(pathtracer: str, render_args: Sequence[str]) -> int:
     """How many passes the render has (``pathtracer ARGS --print-passes``)."""
-    out = subprocess.run([pathtracer, *render_args, "--print-passes"], check=True,
-                         capture_output=True, text=True).stdout
+    out = _run_program([pathtracer, *render_args, "--print-passes"]).stdout
     fields = dict(line.split() for line in out.splitlines())
     return int(fields["passes"])
+
+
+_PART_DIR_PREFIX = "spt-part-"
+
+
+def _pid_alive(pid: int) -> bool:
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:
+        return True
+    return True
+
+
+def remove_orphaned_part_folders() -> int:
+    """Removes the part folders (spt-part-<pid>-*) in this machine's temporary folder whose
+    worker process is gone (a killed worker cannot clean up after itself). Returns how many."""
+    removed = 0
+    for folder in Path(tempfile.gettempdir()).glob(f"{_PART_DIR_PREFIX}*-*"):
+        pid = folder.name[len(_PART_DIR_PREFIX):].split("-", 1)[0]
+        if pid.isdigit() and not _pid_alive(int(pid)):
+            shutil.rmtree(folder, ignore_errors=True)
+            removed += 1
+    return removed
 
 
 def split_passes(passes: int, parts: int) -> list[tuple[int, int]]:
@@ -79,17 +124,17 @@ def render_part(pathtracer: str, render_args: Sequence[str], passes: tuple[int, 
     except ValueError:
         worker = "local"
     start = time.monotonic()
-    with tempfile.TemporaryDirectory(prefix="spt-part-") as work:
+    remove_orphaned_part_folders()
+    # Named after this process, so that a later task or the driver removes it if the worker
+    # is killed before it can.
+    with tempfile.TemporaryDirectory(prefix=f"{_PART_DIR_PREFIX}{os.getpid()}-") as work:
         if scene is not None:
             (Path(work) / scene[0]).write_bytes(scene[1])
         film = Path(work) / "part.film"
         cmd = [_worker_binary(binary, pathtracer), *render_args, "--passes",
                f"{passes[0]}:{passes[1]}", "-o", str(film), "--quiet"]
-        proc = subprocess.run(cmd, cwd=work, capture_output=True, text=True,
-                              preexec_fn=_die_with_parent if sys.platform == "linux" else None)
-        if proc.returncode != 0:
-            raise RuntimeError(f"passes {passes[0]}:{passes[1]} on {worker}: exit {proc.returncode}: "
-                               f"{proc.stderr.strip()}")
+        _run_program(cmd, f"passes {passes[0]}:{passes[1]} on {worker}: ", cwd=work,
+                     preexec_fn=_die_with_parent if sys.platform == "linux" else None)
         return PartResult(passes, film.read_bytes(), worker, time.monotonic() - start)
 
 
@@ -106,7 +151,9 @@ def render(client: Client, render_args: Sequence[str], outputs: Sequence[str], *
     a path valid on every worker). upload_scene: send the scene file (render_args[0]) too.
     retries: how often a task whose process fails is run again (a task whose worker dies
     is rescheduled by Dask itself, up to distributed.scheduler.allowed-failures times).
-    Returns the parts (which worker rendered what, how long it took).
+    Returns the parts (which worker rendered what, how long it took). Raises RenderError with
+    the program's message when the render cannot be planned, a part still fails after its
+    retries, or the merge fails.
     """
     args = list(render_args)
     passes = plan_passes(pathtracer, args)
@@ -124,12 +171,17 @@ def render(client: Client, render_args: Sequence[str], outputs: Sequence[str], *
                              key=f"spt-part-{r[0]}-{r[1]}-{os.urandom(4).hex()}")
                for r in ranges]
     results: list[PartResult] = []
-    for done, future in enumerate(as_completed(futures), start=1):
-        part = future.result()
-        results.append(part)
-        if progress:
-            progress(f"part {done}/{len(ranges)}: passes {part.passes[0]}:{part.passes[1]} of {passes} "
-                     f"on {part.worker} in {part.seconds:.1f} s")
+    try:
+        for done, future in enumerate(as_completed(futures), start=1):
+            part = future.result()
+            results.append(part)
+            if progress:
+                progress(f"part {done}/{len(ranges)}: passes {part.passes[0]}:{part.passes[1]} of {passes} "
+                         f"on {part.worker} in {part.seconds:.1f} s")
+    finally:
+        client.cancel(futures)
+        # The folders of workers killed during the render (their tasks ran again elsewhere).
+        client.run(remove_orphaned_part_folders)
     parts_dir = Path(keep_parts) if keep_parts else Path(tempfile.mkdtemp(prefix="spt-parts-"))
     parts_dir.mkdir(parents=True, exist_ok=True)
     try:
@@ -141,7 +193,7 @@ def render(client: Client, render_args: Sequence[str], outputs: Sequence[str], *
         cmd = [pathtracer, "merge", *files, *merge_args]
         for out in outputs:
             cmd += ["-o", out]
-        subprocess.run(cmd + ["--quiet"], check=True)
+        _run_program(cmd + ["--quiet"])
         if progress:
             progress(f"merged {len(files)} parts into {', '.join(outputs)}")
     finally:
