@@ -71,8 +71,8 @@
 // near a fold (where two roots merge) or, for a forward and a backward root, with y close to
 // the sphere. kCells = 16: the count test (dense scan of 20 000 cells, 3000 random
 // configurations, tests/test_sphere_caustics.cpp) misses 4 of 777 roots, all in pairs at
-// folds (32 cells miss none, but cost 10 % more time per path on cornell-sphere and
-// cornell-quad for a relMSE equal within the noise). The caller stays exact regardless: the BSDF-sampling side of MIS
+// folds (32 cells miss none, but cost 10 % more time per path for a relMSE equal within
+// the noise). The caller stays exact regardless: the BSDF-sampling side of MIS
 // asks this same solver whether it would have found the path's root (find_matching_root)
 // and gives weight 1 when not.
 //

@@ -22,7 +22,7 @@
 // or, where smaller, the one of ns and the great circle of one of the polygon's edges (its
 // normal g: any edge's circle bounds a convex polygon; the same lune sampler with c = ns·g,
 // chosen from the polygon alone, so pdf_li makes the same choice; with cheaper normalising
-// it took 3.5 % of the instructions per path on cornell). Each try is accepted with probability
+// it took 3.5 % of the instructions per path). Each try is accepted with probability
 // A = Φ/(π(1 + c)/2), so a direction of the polygon has density
 //     pdf(ω) = cos θ / Φ · (1 − (1 − A)^kMaxTries)
 // and no sample is returned with probability (1 − A)^kMaxTries (then the estimate is 0: the
@@ -37,17 +37,17 @@
 // Cost: the polygon comes from the region of the plane seen from p's sides of the blockers,
 // built for every sign vector when the scene is finalized (plane_visibility.h), and is
 // remembered per thread for the density the MIS weight of the next bounce asks for
-// (visible_from); the edges' angles come from a series (fast_math.h), not atan2f. On
-// cornell (callgrind, portable build, 64², 16 spp) that took a path from 12 228 instructions
-// to 6 927 (BSDF sampling alone: 2 558); each step is measured in its commit. The work is then
+// (visible_from); the edges' angles come from a series (fast_math.h), not atan2f: together
+// they cut the instructions per path by about 43 % (docs/PERFORMANCE.md, "Light
+// samplers"). The work is then
 // done four at a time in SIMD lanes, each lane the operations of the scalar code so the bits
 // stay the same (tests/test_lights.cpp compares with the one-at-a-time sampler): the blockers'
 // sides, the polygon's vertices and edges (Lambert's formula), and the tries, four per round
 // with the first that lands taken (one branch per round instead of a mispredicted one per
-// try); the sample is written into the caller's LightSample. On the native build that cut
-// cornell's 256², 64 spp render on one thread by 14–18 % (3.37 s → 2.78 s, min of 6 on a
-// shared machine; commits of work-S); the portable build (SSE2: no blends, no 32-bit lane
-// multiply) runs about 3 % more instructions per path for it.
+// try); the sample is written into the caller's LightSample (copying a returned optional
+// stalled on store forwarding). The portable build (SSE2: no blends, no 32-bit lane
+// multiply) runs about 3 % more instructions per path for the lanes than the native one
+// (AVX-512).
 #pragma once
 #include <algorithm>
 #include <cmath>

@@ -145,7 +145,7 @@ public:
             // p on Q (its own surface): rays leave Q, it hides nothing.
             if (std::fabs(d) <= 1e-5 * std::max(1.0, std::fabs(double(b.offset)))) continue;
             const Vec3 q = d > 0.0 ? b.normal : -b.normal;
-            // Parallel to the emitting plane (cornell's floor): g is along ±m; behind p or
+            // Parallel to the emitting plane (a floor under a ceiling): g is along ±m; behind p or
             // beyond the plane it hides nothing, between them everything.
             if (const float qm = dot(q, m); std::fabs(qm) >= 1.f - 1e-7f) {
                 if (qm > 0.f || std::fabs(d) > s) continue;

@@ -117,9 +117,9 @@ struct QuadLight {
         if (!rectangular) return Strategy::area;
         // Far from the light, area sampling is almost as good and much cheaper (the map needs
         // four arc tangents): solid angle only where the rectangle looks large, by the
-        // estimate Ω ≈ A·|z0|/d³ from its centre. On cornell-quad (256², 64 spp, seed 1):
-        // area sampling everywhere 2.59 s, relMSE 0.224; solid angle everywhere 4.45 s, 0.183;
-        // solid angle above 0.1 sr 2.67 s, 0.185.
+        // estimate Ω ≈ A·|z0|/d³ from its centre. Past 0.1 sr the solid-angle map's lower
+        // noise pays for its cost; below, area sampling gives nearly the same error for far
+        // less time (docs/PERFORMANCE.md, "Light samplers").
         const double cx = d[0] + half_diagonal[0], cy = d[1] + half_diagonal[1], cz = d[2] + half_diagonal[2];
         const double dc2 = cx * cx + cy * cy + cz * cz;
         if (double(total_area) * std::fabs(z0) < kSolidAngleWorthIt * dc2 * std::sqrt(dc2)) return Strategy::area;
