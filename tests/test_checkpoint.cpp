@@ -25,6 +25,14 @@ using test::spawn;
 using test::wait_exit;
 using test::wait_for_log;
 
+/// Interrupts a render (SIGINT) once it has written its first checkpoint `ck`: a fixed delay
+/// raced the program's start-up, which varies with the build (a sanitizer build hashes its
+/// larger executable for the build id the checkpoint records).
+void interrupt_after_first_checkpoint(pid_t pid, const fs::path& ck) {
+    for (int i = 0; i < 12000 && !fs::exists(ck); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    kill(pid, SIGINT);
+}
+
 class Checkpoint : public ::testing::Test {
 protected:
     void SetUp() override {
@@ -47,7 +55,7 @@ protected:
         args.insert(args.end(), more.begin(), more.end());
         return spawn(args, dir / "log");
     }
-    /// A render interrupted (SIGINT after 150 ms, checkpoints after every pass) and resumed
+    /// A render interrupted (SIGINT once its first checkpoint exists, checkpoints after every pass) and resumed
     /// writes the image of a straight run: args_for(out) is the command line for output `out`.
     template <class Args>
     void expect_interrupted_resume_equals_straight(const Args& args_for, const std::string& scene) {
@@ -57,8 +65,7 @@ protected:
         fs::remove(ck);
         args.insert(args.end(), {"--checkpoint", ck, "--checkpoint-interval", "0"});
         const pid_t pid = spawn(args, dir / "log");
-        std::this_thread::sleep_for(std::chrono::milliseconds(150));
-        kill(pid, SIGINT);
+        interrupt_after_first_checkpoint(pid, ck);
         wait_exit(pid);
         ASSERT_TRUE(fs::exists(ck)) << scene;
         args.insert(args.end(), {"--resume", ck});
@@ -158,8 +165,7 @@ TEST_F(Checkpoint, InterruptedAndResumedEqualsStraightRun) {
     const std::string ck = (dir / "state.ckpt").string();
     args.insert(args.end(), {"--checkpoint", ck, "--checkpoint-interval", "0"});
     const pid_t pid = spawn(args, dir / "log");
-    std::this_thread::sleep_for(std::chrono::milliseconds(150));
-    kill(pid, SIGINT);
+    interrupt_after_first_checkpoint(pid, ck);
     wait_exit(pid);
     ASSERT_TRUE(fs::exists(ck));
     std::vector<std::string> resume = args;
