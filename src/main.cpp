@@ -180,6 +180,10 @@ int run(const spt::Options& opt) {
         warnings.push_back(w);
     for (const std::string& w : warnings) std::fprintf(stderr, "pathtracer: warning: %s\n", w.c_str());
     if (!opt.dispersion) scene->disable_dispersion();
+    if (!opt.bvh && !scene->disable_bvh())
+        throw spt::UsageError("--no-bvh: scene '" + scene->name +
+                              "' has shapes only the BVH intersects (quadrics, disks or instances); "
+                              "expected spheres, planes, quads and meshes only");
     spt::RenderSettings rs;
     const spt::ImageSize size =
         spt::resolve_image_size(scene->width, scene->height, opt.width, opt.height, opt.scale);

@@ -450,6 +450,21 @@ TEST_F(Cli, SummaryNamesTheIntegratorForMissedCaustics) {
     EXPECT_EQ(diffuse.err.find("note:"), std::string::npos) << diffuse.err;
 }
 
+/// --no-bvh measures what the BVH buys: refused, before anything is written, for a shape that
+/// only the BVH intersects.
+TEST_F(Cli, NoBvhIsRefusedForShapesOnlyTheBvhIntersects) {
+    write_file(m_dir / "disk.json", R"({"camera": {"position": [0, 0, 3], "look_at": [0, 0, 0]},
+      "image": {"width": 8, "height": 8, "spp": 1},
+      "materials": {"grey": {"kd": 0.5}},
+      "shapes": [{"type": "disk", "center": [0, 0, 0], "normal": [0, 0, 1], "radius": 1, "material": "grey"}],
+      "lights": [{"type": "point", "position": [0, 0, 2], "intensity": 3}]})");
+    const RunResult r = run({"disk.json", "--no-bvh", "-o", "a.pfm"});
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    EXPECT_NE(r.err.find("--no-bvh: scene"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(m_dir / "a.pfm"));
+    EXPECT_EQ(run({"disk.json", "-o", "a.pfm"}).exit_code, 0);
+}
+
 /// Width and height from a PNG file's IHDR chunk ({0, 0} when it is not a PNG).
 std::pair<unsigned, unsigned> png_size(const fs::path& path) {
     const std::string png = read_file(path);
@@ -711,6 +726,7 @@ TEST_F(Cli, FlagsWithoutEffectAreWarnedAbout) {
         {{"--color-space", "xyz", "-o", "a.png"}, "--color-space has no effect with only .png outputs"},
         {{"--checkpoint-interval", "5", "-o", "a.png"}, "--checkpoint-interval has no effect without --checkpoint"},
         {{"--no-dispersion", "-o", "a.png"}, "--no-dispersion has no effect in a scene without dispersive glass"},
+        {{"--no-bvh", "-o", "a.png"}, "--no-bvh has no effect in a scene this small"},
     };
     for (const Case& c : cases) {
         // --quiet silences the summary, not warnings.

@@ -1,7 +1,8 @@
 // SphereLanes (the float rejection made on four spheres at once) must never reject a sphere
 // that Sphere::intersect_t would hit: a small scene (no BVH) agrees with a loop over
 // Sphere::intersect_t for every ray, with 1 to 8 spheres (one and two groups of four); the
-// same for triangles, which use the test on their bounding spheres.
+// same for triangles, which use the test on their bounding spheres. Scene::disable_bvh (the
+// --no-bvh measurement) puts any number of them through the same loop.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -118,6 +119,60 @@ TEST(SphereLanes, SmallSceneTriangleHitsEqualALoop) {
         if (hits < 0) return;
         EXPECT_GT(hits, 1000) << "the rays must actually meet the triangles";
     }
+}
+
+/// --no-bvh: a scene far above the threshold, its BVH disabled, still hits exactly what a loop
+/// over its spheres and triangles hits.
+TEST(SphereLanes, DisabledBvhHitsEqualALoop) {
+    Rng rng(17, 0, 0);
+    Scene scene;
+    scene.add_material(Material{});
+    for (int i = 0; i < 24; ++i) {
+        const Vec3 c = {4 * rng.uniform() - 2, 4 * rng.uniform() - 2, 4 * rng.uniform() - 2};
+        Sphere s;
+        s.center = c;
+        s.radius = 0.05f + 0.3f * rng.uniform();
+        s.material = 0;
+        scene.spheres.push_back(s);
+        Triangle t;
+        t.p0 = c + Vec3(0.5f, 0, 0);
+        t.p1 = c + sample_uniform_sphere(rng.uniform(), rng.uniform());
+        t.p2 = c + sample_uniform_sphere(rng.uniform(), rng.uniform());
+        t.material = 0;
+        if (!t.is_degenerate()) scene.triangles.push_back(t);
+    }
+    scene.finalize();
+    ASSERT_TRUE(scene.uses_bvh());
+    ASSERT_TRUE(scene.disable_bvh());
+    auto make_ray = [&](int) {
+        Ray ray;
+        ray.o = {6 * rng.uniform() - 3, 6 * rng.uniform() - 3, 6 * rng.uniform() - 3};
+        const Sphere& s = scene.spheres[static_cast<std::size_t>(rng.uniform() * scene.spheres.size())];
+        ray.d = normalize(s.center + sample_uniform_sphere(rng.uniform(), rng.uniform()) * 0.5f - ray.o);
+        ray.t_max = kInfinity;
+        return ray;
+    };
+    auto loop = [&](const Ray& ray) {
+        double t_ref = ray.t_max;
+        for (const Sphere& s : scene.spheres) t_ref = std::min(t_ref, s.intersect_t(ray));
+        for (const Triangle& tri : scene.triangles)
+            if (auto ti = tri.intersect(ray, t_ref)) t_ref = ti->t;
+        return t_ref;
+    };
+    EXPECT_GT(hits_equal_a_loop(scene, make_ray, loop, "24 spheres and triangles without a BVH"), 1000);
+}
+
+/// The loop knows spheres and triangles only: a scene with another bounded shape keeps its BVH.
+TEST(SphereLanes, DisableBvhRefusesShapesOnlyTheBvhIntersects) {
+    Scene scene;
+    scene.add_material(Material{});
+    Disk d;
+    d.material = 0;
+    scene.disks.push_back(d);
+    scene.finalize();
+    ASSERT_TRUE(scene.uses_bvh());
+    EXPECT_FALSE(scene.disable_bvh());
+    EXPECT_TRUE(scene.uses_bvh());
 }
 
 }  // namespace

@@ -35,6 +35,7 @@ std::vector<std::string> ineffective_flag_warnings(const Options& options, const
         {"--color-space", !linear_output, "with only .png outputs (a PNG is always sRGB)"},
         {"--checkpoint-interval", options.checkpoint.empty(), "without --checkpoint"},
         {"--no-dispersion", !scene.effects.dispersion, "in a scene without dispersive glass"},
+        {"--no-bvh", !scene.uses_bvh(), "in a scene this small (it tests its few shapes in a loop already)"},
     };
     std::vector<std::string> warnings;
     for (const auto& r : rules)

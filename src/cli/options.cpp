@@ -69,7 +69,7 @@ const std::vector<std::string>& known_flags() {
         "--spectral-range", "--sensor", "--preview-interval", "--display-server", "--threads", "--tile", "--queue",
         "--schedule", "--seed",
         "--checkpoint", "--resume", "--checkpoint-interval", "--time-limit", "--wavelengths-per-path",
-        "--integrator", "--light-sampling", "--caustic-nee", "--plane-nee", "--merge-radius", "--no-dispersion", "--pass-spp", "--max-depth",
+        "--integrator", "--light-sampling", "--caustic-nee", "--plane-nee", "--merge-radius", "--no-dispersion", "--no-bvh", "--pass-spp", "--max-depth",
         "--passes", "--print-passes", "--sampler"};
     return flags;
 }
@@ -145,6 +145,8 @@ Options:
   --wavelengths-per-path K   4 (default: hero wavelength set) or 1 (hero alone)
   --no-dispersion        give dispersive glass its mean index over 380-780 nm (to measure
                          what dispersion costs)
+  --no-bvh               test every sphere and triangle in a loop, without a BVH (to
+                         measure what the BVH buys; refused for quadrics and instances)
   --integrator NAME      path (default: unidirectional path tracing), bdpt
                          (bidirectional: light and camera subpaths combined by MIS) or vcm
                          (bdpt plus vertex merging: photon density estimation as one more
@@ -394,6 +396,8 @@ Options parse_options(const std::vector<std::string>& args) {
             o.merge_radius = parse_real(flag, next_value(), 1e-12, 1e12, "a radius from 1e-12 to 1e12");
         } else if (flag == "--no-dispersion") {
             o.dispersion = false;
+        } else if (flag == "--no-bvh") {
+            o.bvh = false;
         } else if (flag == "--pass-spp") {
             o.pass_spp = parse_integer<int>(flag, next_value(), 1, 1000000, "an integer from 1 to 1000000");
         } else if (flag == "--passes") {
@@ -414,7 +418,7 @@ Options parse_options(const std::vector<std::string>& args) {
         else if (flag == "-o") o.given.insert("--output");
         if (inline_value && (flag == "-h" || flag == "--help" || flag == "--version" ||
                              flag == "--list-scenes" || flag == "--quiet" ||
-                             flag == "--no-dispersion" || flag == "--auto-exposure" ||
+                             flag == "--no-dispersion" || flag == "--no-bvh" || flag == "--auto-exposure" ||
                              flag == "--print-passes"))
             throw UsageError(flag + ": takes no value");
     }

@@ -50,6 +50,7 @@ struct Options {
     bool plane_nee = true;         ///< --plane-nee (path: sample emitting infinite planes)
     std::optional<SamplerKind> sampler;  ///< --sampler (default: default_sampler)
     bool dispersion = true;        ///< false: dispersive glass gets its mean index
+    bool bvh = true;               ///< false: spheres and triangles tested in a loop (--no-bvh)
     int pass_spp = 0;  ///< samples per pass (0: automatic); does not change the image
     double exposure = 0.0;
     bool auto_exposure = false;  ///< PNG: add the stops that take the median luminance to 0.18

@@ -47,6 +47,22 @@ void check_spectrum(const Spectrum& s, const std::string& what, float lo, float 
 
 }  // namespace
 
+bool Scene::needs_bvh() const {
+    bool others = !instances.empty();
+    for_each_array([&]<typename T>(const std::vector<T>& shapes) {
+        if constexpr (BoundedShape<T> && !std::is_same_v<T, Sphere> && !std::is_same_v<T, Triangle>)
+            others |= !shapes.empty();
+    });
+    return others;
+}
+
+bool Scene::disable_bvh() {
+    if (needs_bvh()) return false;
+    m_bvh_allowed = false;
+    finalize();
+    return true;
+}
+
 void Scene::disable_dispersion() {
     for (Material& m : materials) {
         Spectrum* eta = nullptr;
@@ -354,13 +370,9 @@ void Scene::build_acceleration() {
     // Bounded shapes: a BVH once there are more than a handful (see kBvhThreshold), or any
     // other bounded type (the loop below the threshold knows spheres and triangles only).
     m_bvh = Bvh{};
-    bool others = false;
-    for_each_array([&]<typename T>(const std::vector<T>& shapes) {
-        if constexpr (BoundedShape<T> && !std::is_same_v<T, Sphere> && !std::is_same_v<T, Triangle>)
-            others |= !shapes.empty();
-    });
     const auto bvh_start = std::chrono::steady_clock::now();
-    if (spheres.size() + triangles.size() > kBvhThreshold || others || !instances.empty()) m_bvh.build(bvh_shapes());
+    const bool many = spheres.size() + triangles.size() > kBvhThreshold;
+    if ((many && m_bvh_allowed) || needs_bvh()) m_bvh.build(bvh_shapes());
     bvh_build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - bvh_start).count();
     m_use_bvh = !m_bvh.empty();
     m_out_of_line = m_use_bvh || !moving_shapes.empty();

@@ -198,6 +198,10 @@ struct Scene : ShapeArrays {
     static constexpr std::size_t kBvhThreshold = 8;
     /// True when finalize() built a BVH (intersect and occluded use it).
     bool uses_bvh() const { return m_use_bvh; }
+    /// Tests every sphere and triangle in a loop instead of a BVH (to measure what the BVH
+    /// buys), then finalizes again. Returns false and leaves the scene as it was when a shape
+    /// only the BVH intersects (a quadric, a disk, an instance) is present.
+    bool disable_bvh();
     const Bvh& bvh() const { return m_bvh; }
 
     /// Nearest surface along the ray, t in (0, ray.t_max), with the moving shapes where they
@@ -285,6 +289,9 @@ private:
     [[gnu::noinline]] std::optional<Hit> intersect_out_of_line(const Ray& ray, double t_best, int best_plane,
                                                                float time) const;
     [[gnu::noinline]] bool occluded_out_of_line(const Ray& ray, ShadowSkip skip, float time) const;
+    /// Whether a bounded shape other than spheres and triangles (or an instance) is present:
+    /// the loop of a small scene knows those two only.
+    bool needs_bvh() const;
     /// Moving shape i at `time`: its nearest hit before t_max, in world space.
     std::optional<Hit> intersect_moving(std::size_t i, const Ray& ray, float time, double t_max) const;
     BvhShapes bvh_shapes() const {
@@ -353,6 +360,7 @@ private:
     std::vector<signed char> m_plane_axis;  ///< per plane: its normal's axis, −1 if tilted
     Bvh m_bvh;                             ///< over spheres and triangles; empty below the threshold
     bool m_use_bvh = false;                ///< !m_bvh.empty(), in one byte for the hot path
+    bool m_bvh_allowed = true;             ///< false after disable_bvh()
     bool m_out_of_line = false;            ///< m_use_bvh or moving shapes
 };
 
