@@ -124,7 +124,11 @@ TEST(SceneLoader, EveryShapeAndLight) {
 TEST(SceneLoader, ErrorsNameFileLineColumnAndSuggest) {
     const std::string sphere = "{\"type\": \"sphere\", \"center\": [0,0,0], \"radius\": 1, \"material\": \"m\"}";
     EXPECT_EQ(error_of(scene_json("\"m\": {\"kd\": 0.5}", "{\"type\": \"sphere\", \"center\": [0,0,0], \"radus\": 1, \"material\": \"m\"}")),
-              "s.json:3:50: unknown key \"radus\" in sphere (shape 0). Did you mean \"radius\"? Expected one of: type, center, radius, material, emission, motion, interior, exterior");
+              "s.json:3:50: unknown key \"radus\" in sphere (shape 0). Did you mean \"radius\"? Expected \"radius\", which sphere (shape 0) needs");
+    // An unknown key beside every key the shape needs: found after the shape is built, with the
+    // keys its create function read or looked for.
+    EXPECT_EQ(error_of(scene_json("\"m\": {\"kd\": 0.5}", "{\"type\": \"sphere\", \"center\": [0,0,0], \"radius\": 1, \"radiuss\": 1, \"material\": \"m\"}")),
+              "s.json:3:63: unknown key \"radiuss\" in sphere (shape 0). Did you mean \"radius\"? Expected one of: type, motion, center, radius, material, emission, interior, exterior");
     EXPECT_NE(error_of(scene_json("\"m\": {\"kd\": 0.5}", "{\"type\": \"sphere\", \"center\": [0,0,0], \"radius\": -1, \"material\": \"m\"}"))
                   .find("s.json:3:60: sphere (shape 0) radius is -1; expected a number in (0, 1e+15]"), std::string::npos);
     EXPECT_NE(error_of(scene_json("\"m\": {\"kd\": 0.7, \"ks\": 0.4}", sphere)).find("kd + ks + kt = 1.1"), std::string::npos);

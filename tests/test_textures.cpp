@@ -114,8 +114,8 @@ Loaded load_texture(const std::string& definition, const std::string& bytes, Tex
         display = rel;
         return true;
     };
-    const SpectrumParser spectra("t.json", resolution);
-    TextureParser parser("t.json", resolution, spectra, reader, l.scene);
+    const SpectrumParser spectra(SourceFiles{"t.json"}, resolution);
+    TextureParser parser(SourceFiles{"t.json"}, resolution, spectra, reader, l.scene);
     const ParamValue defs = param_value_from_json(parse_json("{\"t\": " + definition + "}", "t.json"));
     parser.definitions(defs);
     const ParamValue binding = ParamValue::dict({{"texture", ParamValue::string("t")}});

@@ -17,12 +17,12 @@ namespace {
 /// Anisotropic roughness is a conductor's ("roughness_u", "roughness_v"); on the other types
 /// those keys, and "anisotropy" anywhere, are errors that say so.
 void reject_anisotropy(const SpectrumParser& p, const ParamValue& def, const std::string& type, const std::string& what) {
-    if (const ParamValue* v = def.find("anisotropy"))
+    if (const ParamValue* v = def.peek("anisotropy"))
         p.fail(v->pos(), what + " anisotropy: anisotropic roughness is given by \"roughness_u\" and \"roughness_v\" "
                                 "(conductors only); expected those instead");
     if (type == "conductor") return;
     for (const char* key : {"roughness_u", "roughness_v"})
-        if (const ParamValue* v = def.find(key))
+        if (const ParamValue* v = def.peek(key))
             p.fail(v->pos(), what + " " + key + ": anisotropic roughness is available for conductors only; expected "
                                         "one number \"roughness\" in [0, 1]");
 }
@@ -66,15 +66,14 @@ ThinFilm film(const SpectrumParser& p, const ParamValue& def, const std::string&
     if (!v) return f;
     const std::string w = what + " film";
     p.object(*v, w);
-    p.check_keys(*v, w, {"thickness_nm", "ior"});
     f.thickness_nm = number(p.required(*v, "thickness_nm", w), "film thickness_nm", w + " thickness_nm", 0, 1e5, false);
     f.eta = p.spectrum(p.required(*v, "ior", w), w + " ior", SpectrumUse::Index);
+    p.all_read(*v, w);
     return f;
 }
 
 ConductorBsdf conductor(const SpectrumParser& p, const ParamValue& def, const std::string& what,
                         const FloatParameter& number) {
-    p.check_keys(def, what, {"type", "metal", "eta", "k", "roughness", "roughness_u", "roughness_v", "film", "emission"});
     ConductorBsdf c;
     const ParamValue* metal = def.find("metal");
     const ParamValue *eta = def.find("eta"), *k = def.find("k");
@@ -89,9 +88,11 @@ ConductorBsdf conductor(const SpectrumParser& p, const ParamValue& def, const st
         c.eta = p.spectrum_from(m->eta, metal->pos(), what + " eta (" + m->symbol + ")", SpectrumUse::ConductorIndex);
         c.k = p.spectrum_from(m->k, metal->pos(), what + " k (" + m->symbol + ")", SpectrumUse::Extinction);
     } else {
-        if (!eta || !k)
+        if (!eta || !k) {
+            p.misspelt(def, what, {"metal", "eta", "k"});
             p.fail(def.pos(), what + " has no \"metal\" and not both \"eta\" and \"k\"; expected \"metal\": \"Au\" "
                                      "(or Ag, Cu, Al) or both spectra");
+        }
         c.eta = p.spectrum(*eta, what + " eta", SpectrumUse::ConductorIndex);
         c.k = p.spectrum(*k, what + " k", SpectrumUse::Extinction);
     }
@@ -103,7 +104,6 @@ ConductorBsdf conductor(const SpectrumParser& p, const ParamValue& def, const st
 
 DielectricBsdf dielectric(const SpectrumParser& p, const ParamValue& def, const std::string& what,
                           const FloatParameter& number) {
-    p.check_keys(def, what, {"type", "ior", "roughness", "film", "emission"});
     DielectricBsdf d;
     d.eta = p.spectrum(p.required(def, "ior", what), what + " ior", SpectrumUse::Index);
     d.ggx = roughness(p, def, what, number);
@@ -113,7 +113,6 @@ DielectricBsdf dielectric(const SpectrumParser& p, const ParamValue& def, const 
 
 PlasticBsdf plastic(const SpectrumParser& p, const ParamValue& def, const std::string& what,
                     const FloatParameter& number, const ReflectanceParameter& reflectance) {
-    p.check_keys(def, what, {"type", "kd", "ior", "roughness", "emission"});
     // A textured kd: the lobe choice reads the mean of its envelope (make_plastic), the same
     // number in sampling and pdf, so the estimator stays unbiased.
     Spectrum kd = reflectance(p.required(def, "kd", what), "kd");
@@ -139,7 +138,6 @@ PlasticBsdf plastic(const SpectrumParser& p, const ParamValue& def, const std::s
 
 ThinSheetBsdf thin_sheet(const SpectrumParser& p, const ParamValue& def, const std::string& what,
                         const FloatParameter& number) {
-    p.check_keys(def, what, {"type", "thickness_nm", "ior", "emission"});
     ThinSheetBsdf t;
     t.film.thickness_nm = number(p.required(def, "thickness_nm", what), "thickness_nm", what + " thickness_nm", 0, 1e5, true);
     t.film.eta = p.spectrum(p.required(def, "ior", what), what + " ior", SpectrumUse::Index);
@@ -147,7 +145,6 @@ ThinSheetBsdf thin_sheet(const SpectrumParser& p, const ParamValue& def, const s
 }
 
 Bsdf diffuse(const MaterialParams& p) {
-    p.spectra.check_keys(p.def, p.what + " of type \"diffuse\"", {"type", "kd", "emission"});
     DiffuseBsdf d;
     if (const ParamValue* x = p.def.find("kd")) d.kd = p.reflectance(*x, "kd");
     return d;
@@ -155,7 +152,6 @@ Bsdf diffuse(const MaterialParams& p) {
 
 Bsdf lobes(const MaterialParams& p) {
     const SpectrumParser& s = p.spectra;
-    s.check_keys(p.def, p.what, {"type", "kd", "ks", "kt", "ior", "emission"});
     LobeMixBsdf b;
     if (const ParamValue* x = p.def.find("kd")) b.kd = p.reflectance(*x, "kd");
     if (const ParamValue* x = p.def.find("ks")) b.ks = p.reflectance(*x, "ks");
@@ -172,8 +168,8 @@ Bsdf lobes(const MaterialParams& p) {
     return b;
 }
 
-/// The microfacet types name their type in messages, and reject anisotropic keys before the
-/// key check, which would only call them unknown.
+/// The microfacet types name their type in messages, and reject anisotropic keys with a
+/// message that says where they belong (the read check would only call them unknown).
 template <const char* kName>
 std::string microfacet_what(const MaterialParams& p) {
     const std::string w = p.what + " of type " + quote_text(kName);

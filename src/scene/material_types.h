@@ -31,8 +31,8 @@ using FloatParameter = std::function<float(const ParamValue& v, const std::strin
 /// {"texture": NAME} too: it records the binding and returns the texture's envelope.
 using ReflectanceParameter = std::function<Spectrum(const ParamValue& v, const char* key)>;
 
-/// What a material's create function reads: its parameters `def` (keys "type" and
-/// "emission" are allowed and left to the caller), its name in messages (`what`: "material
+/// What a material's create function reads: its parameters `def` (the caller reads "type" and
+/// "emission"; a key that neither reads is unknown), its name in messages (`what`: "material
 /// \"m\""), the spectrum reader, and the readers of the parameters that may name a texture.
 struct MaterialParams {
     const SpectrumParser& spectra;

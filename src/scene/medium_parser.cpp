@@ -11,17 +11,14 @@ namespace spt {
 
 namespace {
 
-// Each density type's create function checks its keys: those of every medium ("type",
-// "sigma_a", "sigma_s", "scale", "g", read by MediumParser::medium) and its own.
+// Each density type's create function reads its own keys; MediumParser::medium reads those of
+// every medium ("type", "sigma_a", "sigma_s", "scale", "g").
 
-DensityField homogeneous(const MediumParser& p, const ParamValue& def, const std::string& what) {
-    p.check_keys(def, what, {"type", "sigma_a", "sigma_s", "scale", "g"});
-    return UniformDensity{};
-}
+DensityField homogeneous(const MediumParser&, const ParamValue&, const std::string&) { return UniformDensity{}; }
 
 DensityField height_fog(const MediumParser& p, const ParamValue& def, const std::string& what) {
-    p.check_keys(def, what, {"type", "sigma_a", "sigma_s", "scale", "g", "up", "base", "scale_height", "top"});
     HeightFogDensity h;
+    MediumParser::look_up(def, {"up", "top"});
     if (const ParamValue* up = def.find("up")) h.up = normalize(p.direction(*up, what + " up"));
     if (const ParamValue* b = def.find("base"))
         h.base = static_cast<float>(p.number_in(*b, what + " base", -kMaxSceneCoordinate, kMaxSceneCoordinate));
@@ -36,7 +33,7 @@ DensityField height_fog(const MediumParser& p, const ParamValue& def, const std:
 }
 
 DensityField grid(const MediumParser& p, const ParamValue& def, const std::string& what) {
-    p.check_keys(def, what, {"type", "sigma_a", "sigma_s", "scale", "g", "file", "min", "max"});
+    MediumParser::look_up(def, {"min", "max"});
     const ParamValue& fv = p.required(def, "file", what);
     const std::string& file = p.string(fv, what + " file");
     std::string contents, display, error;
@@ -85,10 +82,12 @@ Medium MediumParser::medium(const std::string& name, const ParamValue& def) cons
                                           " Expected one of: " + join(types));
     }
     m.density = found->create(*this, def, what);
+    look_up(def, {"sigma_a", "sigma_s"});
     m.sigma_a = m_spectra.spectrum(required(def, "sigma_a", what), what + " sigma_a", SpectrumUse::Emission);
     m.sigma_s = m_spectra.spectrum(required(def, "sigma_s", what), what + " sigma_s", SpectrumUse::Emission);
     if (const ParamValue* s = def.find("scale")) m.scale = static_cast<float>(number_in(*s, what + " scale", 0, 1e12));
     if (const ParamValue* g = def.find("g")) m.phase.g = static_cast<float>(number_in(*g, what + " g", -0.999, 0.999));
+    all_read(def, what + " of type " + quote_text(type));
     return m;
 }
 

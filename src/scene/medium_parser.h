@@ -11,8 +11,8 @@ namespace spt {
 
 class MediumParser : public ParamChecker {
 public:
-    MediumParser(const std::string& origin, const SpectrumParser& spectra, const RelativeFileReader& read_relative)
-        : ParamChecker(origin), m_spectra(spectra), m_read_relative(read_relative) {}
+    MediumParser(const SourceFiles& files, const SpectrumParser& spectra, const RelativeFileReader& read_relative)
+        : ParamChecker(files), m_spectra(spectra), m_read_relative(read_relative) {}
 
     /// The medium `name` defined by `def`: {"type": "homogeneous" | "grid" | "height_fog",
     /// "sigma_a", "sigma_s", "scale", "g", and the type's own keys}. Throws LocatedError.

@@ -12,6 +12,13 @@ std::string join(const std::vector<std::string>& words) {
     return out;
 }
 
+std::string quoted_alternatives(const std::vector<std::string>& words) {
+    std::string out;
+    for (std::size_t i = 0; i < words.size(); ++i)
+        out += (i == 0 ? "" : i + 1 == words.size() ? " or " : ", ") + ("\"" + words[i] + "\"");
+    return out;
+}
+
 std::string quote_text(std::string_view s) {
     std::string out = "\"";
     for (char c : s.substr(0, 60)) out += (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) ? '?' : c;

@@ -2,12 +2,20 @@
 // for the create functions: every failed expectation (wrong type, unknown key, out-of-range
 // number...) becomes one LocatedError "file:line:column: what is wrong; expected what", with a
 // "Did you mean" for near misses, at the position the reader recorded for the value.
+//
+// Unknown keys are found by reading, not by lists: each create function looks its keys up
+// (ParamValue::find marks them read) and ends with all_read(), so a key is accepted exactly
+// when the code that builds the entity reads it, and each key is named once, where it is read.
+// A create function therefore looks up every key it accepts on every branch (and refuses, with
+// its own message, those that do not apply to the branch taken), and looks up keys that are
+// each other's near misses ("sigma_a", "sigma_s") before it requires one of them.
 #pragma once
 #include <algorithm>
 #include <cmath>
 #include <initializer_list>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "core/text.h"
@@ -22,6 +30,8 @@ inline constexpr double kMaxSceneCoordinate = 1e15;
 
 /// "a, b, c".
 std::string join(const std::vector<std::string>& words);
+/// "\"a\", \"b\" or \"c\"".
+std::string quoted_alternatives(const std::vector<std::string>& words);
 /// A user string quoted and shortened for messages (control characters shown as '?').
 std::string quote_text(std::string_view s);
 /// Shortest readable form of a number for messages.
@@ -29,11 +39,12 @@ std::string number_text(double v);
 
 class ParamChecker {
 public:
-    explicit ParamChecker(const std::string& origin) : m_origin(origin) {}
+    /// `files`: the description's file table, which SourcePos::file indexes.
+    explicit ParamChecker(SourceFiles files) : m_files(std::move(files)) {}
 
-    /// Throws the located error "origin:line:column: message".
-    [[noreturn]] void fail(TextPos pos, const std::string& message) const {
-        throw LocatedError(m_origin, pos, message);
+    /// Throws the located error "file:line:column: message", naming the file `pos` came from.
+    [[noreturn]] void fail(SourcePos pos, const std::string& message) const {
+        throw LocatedError(pos.file < m_files.size() ? m_files[pos.file] : "(unnamed file)", pos.text_pos(), message);
     }
     [[noreturn]] void wrong_type(const ParamValue& v, const std::string& what, const std::string& expected) const {
         fail(v.pos(), what + " is " + ParamValue::kind_name(v.kind()) + "; expected " + expected);
@@ -44,21 +55,46 @@ public:
         return v;
     }
 
-    /// Unknown keys are errors (with the closest allowed key as a suggestion).
-    void check_keys(const ParamValue& obj, const std::string& what, std::initializer_list<const char*> allowed) const {
-        std::vector<std::string> names(allowed.begin(), allowed.end());
+    /// Called when the code that builds `obj` is done with it: a key it did not read is an
+    /// error at that key, suggesting the closest key it reads and listing them all.
+    void all_read(const ParamValue& obj, const std::string& what) const {
         for (std::size_t i = 0; i < obj.members().size(); ++i) {
+            if (obj.was_read(i)) continue;
             const std::string& key = obj.members()[i].first;
-            if (std::find(names.begin(), names.end(), key) != names.end()) continue;
-            fail(obj.key_pos(i), "unknown key " + quote_text(key) + " in " + what + "." + suggestion(key, names) +
-                                  " Expected one of: " + join(names));
+            const std::vector<std::string>& known = obj.asked_keys();
+            fail(obj.key_pos(i), "unknown key " + quote_text(key) + " in " + what + "." + suggestion(key, known) +
+                                     (known.empty() ? " Expected no keys" : " Expected one of: " + join(known)));
         }
+    }
+
+    /// Called before failing because none of `wanted` is in `obj`: a key not read so far that
+    /// is a near miss of one of them is the likelier mistake, reported as unknown at its
+    /// position.
+    void misspelt(const ParamValue& obj, const std::string& what, std::initializer_list<const char*> wanted) const {
+        const std::vector<std::string> names(wanted.begin(), wanted.end());
+        for (std::size_t i = 0; i < obj.members().size(); ++i) {
+            if (obj.was_read(i)) continue;
+            const std::string& key = obj.members()[i].first;
+            const std::string hint = suggestion(key, names);
+            if (hint.empty()) continue;
+            fail(obj.key_pos(i), "unknown key " + quote_text(key) + " in " + what + "." + hint + " Expected " +
+                                     quoted_alternatives(names) + ", which " + what + " needs");
+        }
+    }
+
+    /// Looks up keys that are each other's near misses before any of them is required, so
+    /// that a missing one is not taken for a misspelling of another (misspelt()).
+    static void look_up(const ParamValue& obj, std::initializer_list<const char*> keys) {
+        for (const char* key : keys) obj.find(key);
     }
 
     /// The member `key` of `obj`, which must be present.
     const ParamValue& required(const ParamValue& obj, const char* key, const std::string& what) const {
         const ParamValue* v = obj.find(key);
-        if (!v) fail(obj.pos(), what + " has no \"" + key + "\"; expected one");
+        if (!v) {
+            misspelt(obj, what, {key});
+            fail(obj.pos(), what + " has no \"" + key + "\"; expected one");
+        }
         return *v;
     }
 
@@ -115,8 +151,10 @@ public:
         return d;
     }
 
-protected:
-    const std::string& m_origin;  ///< file name in messages
+    const SourceFiles& files() const { return m_files; }
+
+private:
+    SourceFiles m_files;
 };
 
 }  // namespace spt

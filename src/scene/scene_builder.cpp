@@ -28,16 +28,13 @@ namespace {
 /// shapes, lights), so materials may be referred to before they appear in the file.
 class Builder : public ParamChecker {
 public:
-    Builder(const std::string& origin, SpectralResolution resolution, const RelativeFileReader& read_relative)
-        : ParamChecker(origin), m_spectra(origin, resolution), m_read_relative(read_relative),
-          m_textures(origin, resolution, m_spectra, read_relative, m_scene) {}
+    Builder(const SourceFiles& files, SpectralResolution resolution, const RelativeFileReader& read_relative)
+        : ParamChecker(files), m_spectra(files, resolution), m_read_relative(read_relative),
+          m_textures(files, resolution, m_spectra, read_relative, m_scene) {}
 
     Scene load(const ParamValue& root, const std::string& name) {
         m_scene.name = name;
         const ParamValue& top = object(root, "the scene");
-        check_keys(top, "the scene",
-                   {"description", "summary", "camera", "image", "integrator", "background", "textures", "materials", "media", "medium",
-                    "shapes", "lights"});
         if (const ParamValue* d = top.find("description")) m_scene.summary = first_sentence(string(*d, "description"));
         if (const ParamValue* s = top.find("summary")) m_scene.summary = one_line(*s, "summary");
         camera(required(top, "camera", "the scene"));
@@ -56,6 +53,7 @@ public:
             if (!lights->is_array()) wrong_type(*lights, "lights", "an array of lights");
             for (const ParamValue& l : lights->items()) light(l);
         }
+        all_read(top, "the scene");
         try {
             m_scene.finalize();
         } catch (const SceneError& e) {  // every check above should have come first
@@ -83,9 +81,6 @@ private:
 
     void camera(const ParamValue& v) {
         object(v, "camera");
-        check_keys(v, "camera", {"position", "look_at", "up", "vfov_degrees", "aperture_radius", "f_number",
-                                 "focal_length", "focus_distance", "focus_point", "blades", "rotation_degrees",
-                                 "shutter"});
         CameraSpec& c = m_scene.camera;
         c.position = point(required(v, "position", "camera"), "camera position");
         c.look_at = point(required(v, "look_at", "camera"), "camera look_at");
@@ -105,6 +100,7 @@ private:
             c.shutter_open = static_cast<float>(t[0]);
             c.shutter_close = static_cast<float>(t[1]);
         }
+        all_read(v, "camera");
     }
 
     /// "motion": {"keyframes": [{"time": t, "translate": [x, y, z], "rotate": {"axis":
@@ -114,7 +110,6 @@ private:
     RigidMotion motion(const ParamValue& v, const std::string& what, const Vec3& default_pivot) const {
         const std::string who = what + " motion";
         object(v, who);
-        check_keys(v, who, {"keyframes", "pivot"});
         RigidMotion m;
         m.pivot = v.find("pivot") ? point(*v.find("pivot"), who + " pivot") : default_pivot;
         const ParamValue& keys = required(v, "keyframes", who);
@@ -123,7 +118,6 @@ private:
         for (const ParamValue& k : keys.items()) {
             const std::string key_what = who + " keyframe";
             object(k, key_what);
-            check_keys(k, key_what, {"time", "translate", "rotate"});
             Keyframe key;
             key.time = static_cast<float>(number_in(required(k, "time", key_what), key_what + " time", -1e9, 1e9));
             if (!m.keys.empty() && !(key.time > m.keys.back().time))
@@ -133,10 +127,10 @@ private:
             if (const ParamValue* r = k.find("rotate")) {
                 const std::string rot = key_what + " rotate";
                 object(*r, rot);
-                check_keys(*r, rot, {"axis", "degrees"});
                 const Vec3 axis = normalize(direction(required(*r, "axis", rot), rot + " axis"));
                 const double degrees = number_in(required(*r, "degrees", rot), rot + " degrees", -1e6, 1e6);
                 key.rotation = Quaternion::axis_angle(axis, static_cast<float>(degrees * kPiDouble / 180.0));
+                all_read(*r, rot);
             }
             // A half turn between keyframes (quaternions orthogonal, within about 0.01°) has two
             // shorter arcs, either way round: the motion would be a guess.
@@ -145,7 +139,9 @@ private:
                      key_what + " rotate turns 180 degrees from the keyframe before, which is ambiguous (either "
                                 "way round is as short); expected a keyframe in between");
             m.keys.push_back(key);
+            all_read(k, key_what);
         }
+        all_read(v, who);
         return m;
     }
 
@@ -191,13 +187,13 @@ private:
 
     void image_settings(const ParamValue& v) {
         object(v, "image");
-        check_keys(v, "image", {"width", "height", "spp"});
         if (const ParamValue* w = v.find("width")) m_scene.width = integer_in(*w, "image width", 1, 65536);
         if (const ParamValue* h = v.find("height")) m_scene.height = integer_in(*h, "image height", 1, 65536);
         if (const ParamValue* s = v.find("spp")) m_scene.spp = integer_in(*s, "image spp", 1, 1000000);
         if (double(m_scene.width) * m_scene.height > double(1 << 28))
             fail(v.pos(), "image of " + std::to_string(m_scene.width) + "x" + std::to_string(m_scene.height) +
                               " pixels is too large; expected at most 268435456 pixels");
+        all_read(v, "image");
     }
 
     /// The text up to the first ". " (or all of it).
@@ -220,10 +216,7 @@ private:
         const ParamValue* type = &v;
         if (!v.is_object() && !v.is_string())
             wrong_type(v, "integrator", "a name (path, bdpt or vcm) or an object with \"type\"");
-        if (v.is_object()) {
-            check_keys(v, "integrator", {"type", "max_depth", "light_sampling", "merge_radius"});
-            type = &required(v, "type", "integrator");
-        }
+        if (v.is_object()) type = &required(v, "type", "integrator");
         const std::string& name = string(*type, "integrator type");
         const std::vector<std::string> names = integrator_names();
         p.kind = integrator_from_name(name);
@@ -247,6 +240,7 @@ private:
                 fail(r->pos(), "integrator merge_radius applies to vcm only; expected no merge_radius with " + name);
             p.merge_radius = number_in(*r, "integrator merge_radius", 1e-12, 1e12, true);
         }
+        all_read(v, "integrator");
     }
 
     /// A refracting mesh must bound a volume with its faces pointing out, or rays inside and
@@ -304,6 +298,7 @@ private:
             Spectrum emission;
             int emission_texture = -1;
             if (const ParamValue* x = def.find("emission")) emission = emission_value(*x, what, emission_texture);
+            all_read(def, def.peek("type") ? what + " of type " + quote_text(type) : what);
             add_material(std::move(m), def.pos());
             m_material_emission.push_back(std::move(emission));
             m_material_emission_texture.push_back(emission_texture);
@@ -351,7 +346,7 @@ private:
         return light;
     }
 
-    int add_material(Material m, TextPos pos) {
+    int add_material(Material m, SourcePos pos) {
         try {
             validate_material(m);
         } catch (const SceneError& e) {
@@ -397,7 +392,10 @@ private:
             surface.material = interface_material();  // bounds a medium, invisible
             return surface;
         }
-        if (!name) fail(v.pos(), what + " has neither \"material\" nor \"emission\"; expected one of them");
+        if (!name) {
+            misspelt(v, what, {"material", "emission"});
+            fail(v.pos(), what + " has neither \"material\" nor \"emission\"; expected one of them");
+        }
         const std::string& n = string(*name, what + " material");
         if (auto it = m_material_index.find(n); it != m_material_index.end()) {
             surface.material = it->second;
@@ -437,7 +435,6 @@ private:
         AffineMap tr;
         if (!v) return tr;
         object(*v, "transform");
-        check_keys(*v, "transform", {"scale", "rotate", "translate"});
         double s[3] = {1, 1, 1};
         if (const ParamValue* sv = v->find("scale")) {
             if (sv->is_number()) {
@@ -453,7 +450,6 @@ private:
         double r[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
         if (const ParamValue* rv = v->find("rotate")) {
             object(*rv, "transform rotate");
-            check_keys(*rv, "transform rotate", {"axis", "degrees"});
             const Vec3 a = direction(required(*rv, "axis", "transform rotate"), "transform rotate axis");
             const double deg = number_in(required(*rv, "degrees", "transform rotate"), "transform rotate degrees", -36000, 36000);
             const double len = std::sqrt(double(a.x) * a.x + double(a.y) * a.y + double(a.z) * a.z);
@@ -463,6 +459,7 @@ private:
                                       {y * x * k + z * sn, c + y * y * k, y * z * k - x * sn},
                                       {z * x * k - y * sn, z * y * k + x * sn, c + z * z * k}};
             std::copy(&rot[0][0], &rot[0][0] + 9, &r[0][0]);
+            all_read(*rv, "transform rotate");
         }
         for (int i = 0; i < 3; ++i)
             for (int j = 0; j < 3; ++j) tr.a[i][j] = r[i][j] * s[j];
@@ -470,10 +467,11 @@ private:
             const Vec3 t = point(*tv, "transform translate");
             tr.a[0][3] = t.x, tr.a[1][3] = t.y, tr.a[2][3] = t.z;
         }
+        all_read(*v, "transform");
         return tr;
     }
 
-    void add_triangle(const Vec3& a, const Vec3& b, const Vec3& c, Surface surface, TextPos pos,
+    void add_triangle(const Vec3& a, const Vec3& b, const Vec3& c, Surface surface, SourcePos pos,
                       const std::string& what) {
         Triangle t{a, b, c, surface.material};
         t.light = surface.light;
@@ -499,15 +497,23 @@ private:
     }
 
     void shape(const ParamValue& v) {
-        shape_geometry(v);
+        const std::string index = std::to_string(m_shape_count++);
+        object(v, "shape " + index);
+        const std::string& type = string(required(v, "type", "shape " + index), "shape " + index + " type");
+        const std::string what = type + " (shape " + index + ")";
+        const ParamValue* motion_key = v.find("motion");
+        const ShapeCounts first = m_scene.shape_counts();
+        shape_of_type(v, type, what);
+        if (motion_key) make_moving(*motion_key, what, first);
         record_medium_interface(v);
+        all_read(v, what);
     }
 
     // ---------------------------- Media ----------------------------
 
     void media_section(const ParamValue& v) {
         object(v, "media");
-        const MediumParser parser(m_origin, m_spectra, m_read_relative);
+        const MediumParser parser(files(), m_spectra, m_read_relative);
         for (const auto& [name, def] : v.members()) {
             if (name == "vacuum") fail(def.pos(), "medium name \"vacuum\" is reserved (no medium); expected another name");
             m_scene.media.push_back(parser.medium(name, def));
@@ -556,17 +562,6 @@ private:
         return m_scene.interface_material;
     }
 
-    void shape_geometry(const ParamValue& v) {
-        const std::string index = std::to_string(m_shape_count++);
-        object(v, "shape " + index);
-        const std::string& type = string(required(v, "type", "shape " + index), "shape " + index + " type");
-        const std::string what = type + " (shape " + index + ")";
-        const ParamValue* motion_key = v.find("motion");
-        const ShapeCounts first = m_scene.shape_counts();
-        shape_of_type(v, type, what);
-        if (motion_key) make_moving(*motion_key, what, first);
-    }
-
     /// The shapes just added (from `first` on) become one moving shape.
     void make_moving(const ParamValue& motion_key, const std::string& what, const ShapeCounts& first) {
         if (!m_scene.can_move_since(first))
@@ -577,7 +572,6 @@ private:
 
     void shape_of_type(const ParamValue& v, const std::string& type, const std::string& what) {
         if (type == "sphere") {
-            check_keys(v, what, {"type", "center", "radius", "material", "emission", "motion", "interior", "exterior"});
             Sphere s;
             s.center = point(required(v, "center", what), what + " center");
             s.radius = static_cast<float>(number_in(required(v, "radius", what), what + " radius", 0, kMaxSceneCoordinate, true));
@@ -587,7 +581,6 @@ private:
             s.light = surface.light;
             m_scene.spheres.push_back(s);
         } else if (type == "plane") {
-            check_keys(v, what, {"type", "normal", "point", "material", "emission", "motion", "interior", "exterior"});
             const ParamValue& nv = required(v, "normal", what);
             const Vec3 n = normalize(direction(nv, what + " normal"));
             const Vec3 p = point(required(v, "point", what), what + " point");
@@ -600,7 +593,7 @@ private:
             plane.light = surface.light;
             m_scene.planes.push_back(plane);
         } else if (type == "quad") {
-            check_keys(v, what, {"type", "origin", "edge1", "edge2", "transform", "material", "emission", "motion", "interior", "exterior"});
+            look_up(v, {"edge1", "edge2"});
             const Vec3 o = point(required(v, "origin", what), what + " origin");
             const Vec3 e1 = direction(required(v, "edge1", what), what + " edge1");
             const Vec3 e2 = direction(required(v, "edge2", what), what + " edge2");
@@ -625,7 +618,6 @@ private:
                 m_scene.triangle_attributes.push_back(attr);
             }
         } else if (type == "triangle") {
-            check_keys(v, what, {"type", "vertices", "material", "emission", "motion", "interior", "exterior"});
             const ParamValue& vs = required(v, "vertices", what);
             if (!vs.is_array() || vs.items().size() != 3)
                 fail(vs.pos(), what + " vertices is not an array of 3 points; expected [[x, y, z], [x, y, z], [x, y, z]]");
@@ -633,7 +625,6 @@ private:
                        c = point(vs.items()[2], what + " vertex");
             add_triangle(a, b, c, shape_surface(v, what, ShapeKind::triangle), v.pos(), what);
         } else if (type == "mesh") {
-            check_keys(v, what, {"type", "file", "transform", "instances", "material", "emission", "motion", "interior", "exterior"});
             const ParamValue& fv = required(v, "file", what);
             const std::string& file = string(fv, what + " file");
             // Instances: the triangles are kept once, in the file's space, and placed by each
@@ -699,7 +690,6 @@ private:
                     m_scene.instances.emplace_back(mesh_index, transform(&item));
             }
         } else if (type == "disk") {
-            check_keys(v, what, {"type", "center", "normal", "radius", "material", "emission", "motion", "interior", "exterior"});
             Disk d;
             d.center = point(required(v, "center", what), what + " center");
             d.normal = unit_direction(required(v, "normal", what), what + " normal");
@@ -708,7 +698,7 @@ private:
             d.material = surface.material, d.light = surface.light;
             m_scene.disks.push_back(d);
         } else if (type == "cylinder" || type == "cone") {
-            check_keys(v, what, {"type", "base", "axis", "radius", "height", "material", "emission", "motion", "interior", "exterior"});
+            look_up(v, {"axis", "radius", "height"});
             const Vec3 base = point(required(v, "base", what), what + " base");
             const Vec3 axis = unit_direction(required(v, "axis", what), what + " axis");
             const float radius = positive_size(v, "radius", what), height = positive_size(v, "height", what);
@@ -726,8 +716,8 @@ private:
 
     /// {"type": "spot", "position", "direction", "intensity", "cone_degrees", "falloff_degrees"}.
     void spot_light(const ParamValue& v) {
-        check_keys(v, "spot light", {"type", "position", "direction", "intensity", "cone_degrees", "falloff_degrees"});
         SpotLight s;
+        look_up(v, {"cone_degrees", "falloff_degrees"});
         s.position = point(required(v, "position", "spot light"), "spot light position");
         s.direction = unit_direction(required(v, "direction", "spot light"), "spot light direction");
         s.intensity = spectrum(required(v, "intensity", "spot light"), "spot light intensity", SpectrumUse::Emission);
@@ -739,15 +729,16 @@ private:
         s.cos_cone = static_cast<float>(std::cos(cone * kRadians));
         s.cos_falloff = static_cast<float>(std::cos(falloff * kRadians));
         m_scene.lights.emplace_back(std::move(s));
+        all_read(v, "spot light");
     }
 
     void point_light(const ParamValue& v) {
-        check_keys(v, "point light", {"type", "position", "intensity", "motion"});
+        const ParamValue* motion_key = v.find("motion");
         const Vec3 position = point(required(v, "position", "point light"), "point light position");
         m_scene.add_point_light(position, spectrum(required(v, "intensity", "point light"), "point light intensity",
                                                    SpectrumUse::Emission));
-        if (const ParamValue* m = v.find("motion"))
-            std::get<PointLight>(m_scene.lights.back()).motion = motion(*m, "point light", position);
+        if (motion_key) std::get<PointLight>(m_scene.lights.back()).motion = motion(*motion_key, "point light", position);
+        all_read(v, "point light");
     }
 
     /// A light type of the "lights" section: its name and its create function. Area lights
@@ -769,11 +760,8 @@ private:
             if (type == t.name) return (this->*t.create)(v);
             names.emplace_back(t.name);
         }
-        std::string expected;  // "a", "b" or "c"
-        for (std::size_t i = 0; i < names.size(); ++i)
-            expected += (i == 0 ? "" : i + 1 == names.size() ? " or " : ", ") + ("\"" + names[i] + "\"");
         fail(v.find("type")->pos(), "unknown light type " + quote_text(type) + "." + suggestion(type, names) +
-                                        " Expected " + expected + " (area lights are shapes with \"emission\")");
+                                        " Expected " + quoted_alternatives(names) + " (area lights are shapes with \"emission\")");
     }
 };
 
@@ -781,7 +769,7 @@ private:
 
 Scene build_scene(const SceneDescription& description, SpectralResolution resolution,
                   const RelativeFileReader& read_relative) {
-    return Builder(description.origin, resolution, read_relative).load(description.root, description.name);
+    return Builder(description.files, resolution, read_relative).load(description.root, description.name);
 }
 
 }  // namespace spt

@@ -14,7 +14,7 @@ Spectrum SpectrumParser::spectrum(const ParamValue& v, const std::string& what, 
     return spectrum_from(spectrum_source(v, what), v.pos(), what, use);
 }
 
-Spectrum SpectrumParser::spectrum_from(const SpectrumSource& source, TextPos pos, const std::string& what,
+Spectrum SpectrumParser::spectrum_from(const SpectrumSource& source, SourcePos pos, const std::string& what,
                                        SpectrumUse use) const {
     // Scan the exact source over the whole sampled range.
     double lo = 0, hi = 1e30;
@@ -44,90 +44,87 @@ SpectrumSource SpectrumParser::spectrum_source(const ParamValue& v, const std::s
     auto width = [&](const char* key) {
         return number_in(required(v, key, w), w + " " + key, 0, 1e6, true);
     };
-    if (type == "constant") {
-        check_keys(v, w, {"type", "value"});
-        return SpectrumSource::constant(need("value"));
-    }
-    if (type == "gaussian" || type == "sigmoid") {
-        check_keys(v, w, {"type", "center_nm", "width_nm", "scale", "offset"});
-        const double center = need("center_nm"), wd = width("width_nm");
-        return type == "gaussian" ? SpectrumSource::gaussian(center, wd, opt("scale", 1), opt("offset", 0))
-                                  : SpectrumSource::sigmoid(center, wd, opt("scale", 1), opt("offset", 0));
-    }
-    if (type == "blackbody") {
-        check_keys(v, w, {"type", "temperature_k", "scale", "normalize_nm"});
-        const double t = number_in(required(v, "temperature_k", w), w + " temperature_k", 100, 1e6);
-        const double at = v.find("normalize_nm")
-                              ? number_in(*v.find("normalize_nm"), w + " normalize_nm", 100, 10000)
-                              : 560.0;
-        return SpectrumSource::blackbody(t, opt("scale", 1), at);
-    }
-    if (type == "table") {
-        check_keys(v, w, {"type", "points", "scale"});
-        const ParamValue& pts = required(v, "points", w);
-        if (!pts.is_array() || pts.items().empty())
-            fail(pts.pos(), w + " points is not a non-empty array; expected [[lambda_nm, value], ...]");
-        std::vector<std::pair<double, double>> table;
-        const double scale = opt("scale", 1);
-        for (const ParamValue& p : pts.items()) {
-            const std::vector<double> lv = numbers(p, w + " point", 2);
-            if (!table.empty() && !(lv[0] > table.back().first))
-                fail(p.pos(), w + " wavelengths do not increase; expected strictly increasing wavelengths");
-            table.emplace_back(lv[0], lv[1] * scale);
+    // The source of each type, read by the branch of its type; the keys no branch read are
+    // unknown.
+    const auto typed = [&]() -> SpectrumSource {
+        if (type == "constant") {
+            return SpectrumSource::constant(need("value"));
         }
-        return SpectrumSource::piecewise_linear(std::move(table));
-    }
-    if (type == "cauchy") {
-        check_keys(v, w, {"type", "a", "b_um2", "c_um4"});
-        return SpectrumSource::cauchy(need("a"), opt("b_um2", 0), opt("c_um4", 0));
-    }
-    if (type == "sellmeier") {
-        check_keys(v, w, {"type", "b", "c_um2"});
-        const auto b = numbers(required(v, "b", w), w + " b", 3);
-        const auto c = numbers(required(v, "c_um2", w), w + " c_um2", 3);
-        return SpectrumSource::sellmeier(b[0], b[1], b[2], c[0], c[1], c[2]);
-    }
-    if (type == "rgb") {
-        check_keys(v, w, {"type", "value", "scale"});
-        return rgb(required(v, "value", w), w, opt("scale", 1));
-    }
-    if (type == "illuminant") {
-        check_keys(v, w, {"type", "name", "scale"});
-        const ParamValue& n = required(v, "name", w);
-        const std::string& name = string(n, w + " name");
-        const char* file = name == "D65" ? "cie_d65.csv" : name == "A" ? "cie_a.csv" : nullptr;
-        if (!file)
-            fail(n.pos(), "unknown illuminant " + quote_text(name) + "." + suggestion(name, {"D65", "A"}) +
-                              " Expected D65 or A");
-        // Tables are normalised to 100 at 560 nm; here to 1.
-        return table_column(embedded_spectral_table(file), "value", opt("scale", 1) / 100.0);
-    }
-    if (type == "glass") {
-        check_keys(v, w, {"type", "name"});
-        const ParamValue& n = required(v, "name", w);
-        const std::string& name = string(n, w + " name");
-        const std::optional<GlassInfo> glass = find_glass(name);
-        if (!glass)
-            fail(n.pos(), "unknown glass " + quote_text(name) + "." + suggestion(name, glass_names()) +
-                              " Expected one of: " + join(glass_names()));
-        return glass->ior;
-    }
-    if (type == "colorchecker") {
-        check_keys(v, w, {"type", "patch", "scale"});
-        const ParamValue& n = required(v, "patch", w);
-        const std::string& patch = string(n, w + " patch");
-        const SpectralTable& t = embedded_spectral_table("colorchecker.csv");
-        const std::vector<std::string> patches(t.column_names.begin() + 1, t.column_names.end());
-        if (std::find(patches.begin(), patches.end(), patch) == patches.end())
-            fail(n.pos(), "unknown ColorChecker patch " + quote_text(patch) + "." + suggestion(patch, patches) +
-                              " Expected one of: " + join(patches));
-        return table_column(t, patch, opt("scale", 1));
-    }
-    const ParamValue& t = *v.find("type");
-    const std::vector<std::string> types = {"constant", "gaussian", "sigmoid", "blackbody", "table", "cauchy",
-                                            "sellmeier", "glass", "rgb", "illuminant", "colorchecker"};
-    fail(t.pos(), "unknown spectrum type " + quote_text(type) + "." + suggestion(type, types) +
-                      " Expected one of: " + join(types));
+        if (type == "gaussian" || type == "sigmoid") {
+            const double center = need("center_nm"), wd = width("width_nm");
+            return type == "gaussian" ? SpectrumSource::gaussian(center, wd, opt("scale", 1), opt("offset", 0))
+                                      : SpectrumSource::sigmoid(center, wd, opt("scale", 1), opt("offset", 0));
+        }
+        if (type == "blackbody") {
+            const double t = number_in(required(v, "temperature_k", w), w + " temperature_k", 100, 1e6);
+            const double at = v.find("normalize_nm")
+                                  ? number_in(*v.find("normalize_nm"), w + " normalize_nm", 100, 10000)
+                                  : 560.0;
+            return SpectrumSource::blackbody(t, opt("scale", 1), at);
+        }
+        if (type == "table") {
+            const ParamValue& pts = required(v, "points", w);
+            if (!pts.is_array() || pts.items().empty())
+                fail(pts.pos(), w + " points is not a non-empty array; expected [[lambda_nm, value], ...]");
+            std::vector<std::pair<double, double>> table;
+            const double scale = opt("scale", 1);
+            for (const ParamValue& p : pts.items()) {
+                const std::vector<double> lv = numbers(p, w + " point", 2);
+                if (!table.empty() && !(lv[0] > table.back().first))
+                    fail(p.pos(), w + " wavelengths do not increase; expected strictly increasing wavelengths");
+                table.emplace_back(lv[0], lv[1] * scale);
+            }
+            return SpectrumSource::piecewise_linear(std::move(table));
+        }
+        if (type == "cauchy") {
+            return SpectrumSource::cauchy(need("a"), opt("b_um2", 0), opt("c_um4", 0));
+        }
+        if (type == "sellmeier") {
+            const auto b = numbers(required(v, "b", w), w + " b", 3);
+            const auto c = numbers(required(v, "c_um2", w), w + " c_um2", 3);
+            return SpectrumSource::sellmeier(b[0], b[1], b[2], c[0], c[1], c[2]);
+        }
+        if (type == "rgb") {
+            return rgb(required(v, "value", w), w, opt("scale", 1));
+        }
+        if (type == "illuminant") {
+            const ParamValue& n = required(v, "name", w);
+            const std::string& name = string(n, w + " name");
+            const char* file = name == "D65" ? "cie_d65.csv" : name == "A" ? "cie_a.csv" : nullptr;
+            if (!file)
+                fail(n.pos(), "unknown illuminant " + quote_text(name) + "." + suggestion(name, {"D65", "A"}) +
+                                  " Expected D65 or A");
+            // Tables are normalised to 100 at 560 nm; here to 1.
+            return table_column(embedded_spectral_table(file), "value", opt("scale", 1) / 100.0);
+        }
+        if (type == "glass") {
+            const ParamValue& n = required(v, "name", w);
+            const std::string& name = string(n, w + " name");
+            const std::optional<GlassInfo> glass = find_glass(name);
+            if (!glass)
+                fail(n.pos(), "unknown glass " + quote_text(name) + "." + suggestion(name, glass_names()) +
+                                  " Expected one of: " + join(glass_names()));
+            return glass->ior;
+        }
+        if (type == "colorchecker") {
+            const ParamValue& n = required(v, "patch", w);
+            const std::string& patch = string(n, w + " patch");
+            const SpectralTable& t = embedded_spectral_table("colorchecker.csv");
+            const std::vector<std::string> patches(t.column_names.begin() + 1, t.column_names.end());
+            if (std::find(patches.begin(), patches.end(), patch) == patches.end())
+                fail(n.pos(), "unknown ColorChecker patch " + quote_text(patch) + "." + suggestion(patch, patches) +
+                                  " Expected one of: " + join(patches));
+            return table_column(t, patch, opt("scale", 1));
+        }
+        const ParamValue& t = *v.find("type");
+        const std::vector<std::string> types = {"constant", "gaussian", "sigmoid", "blackbody", "table", "cauchy",
+                                                "sellmeier", "glass", "rgb", "illuminant", "colorchecker"};
+        fail(t.pos(), "unknown spectrum type " + quote_text(type) + "." + suggestion(type, types) +
+                          " Expected one of: " + join(types));
+    };
+    const SpectrumSource source = typed();
+    all_read(v, w);
+    return source;
 }
 
 SpectrumSource SpectrumParser::rgb(const ParamValue& v, const std::string& what, double scale) const {

@@ -20,15 +20,15 @@ enum class SpectrumUse {
 
 class SpectrumParser : public ParamChecker {
 public:
-    SpectrumParser(const std::string& origin, SpectralResolution resolution)
-        : ParamChecker(origin), m_resolution(resolution) {}
+    SpectrumParser(const SourceFiles& files, SpectralResolution resolution)
+        : ParamChecker(files), m_resolution(resolution) {}
 
     /// The spectrum described by `v`, checked at every nanometre from 360 to 830 nm for its
     /// use; `what` names it in messages. Throws LocatedError.
     Spectrum spectrum(const ParamValue& v, const std::string& what, SpectrumUse use) const;
     /// A spectrum from a source made elsewhere (a named table), checked as spectrum() does;
     /// errors point at `pos`.
-    Spectrum spectrum_from(const SpectrumSource& source, TextPos pos, const std::string& what, SpectrumUse use) const;
+    Spectrum spectrum_from(const SpectrumSource& source, SourcePos pos, const std::string& what, SpectrumUse use) const;
 
 private:
     SpectralResolution m_resolution;

@@ -41,8 +41,6 @@ int TextureParser::bins(TextureUse use) const {
 }
 
 int TextureParser::bind(const ParamValue& v, const std::string& what, TextureUse use) {
-    if (use == TextureUse::emission) check_keys(v, what, {"texture", "scale"});
-    else check_keys(v, what, {"texture"});
     const ParamValue& n = required(v, "texture", what);
     const std::string& name = string(n, what + " texture");
     const ParamValue* def = m_definitions ? m_definitions->find(name) : nullptr;
@@ -56,6 +54,7 @@ int TextureParser::bind(const ParamValue& v, const std::string& what, TextureUse
     }
     const double scale = use == TextureUse::emission ? optional_number(v, "scale", 1.0, what) : 1.0;
     if (!(scale >= 0 && scale <= 1e30)) fail(v.find("scale")->pos(), what + " scale is out of range; expected a number in [0, 1e30]");
+    all_read(v, what);  // "scale" is an emission's only
     const auto key = std::make_tuple(name, use, scale);
     if (auto it = m_built.find(key); it != m_built.end()) return it->second;
     m_scene.textures.push_back(build(name, *def, use, scale));
@@ -70,16 +69,8 @@ Texture TextureParser::build(const std::string& name, const ParamValue& def, Tex
     t.name = name;
     t.bins = bins(use);
     const std::string& type = string(required(def, "type", what), what + " type");
-    auto common = [&](std::initializer_list<const char*> keys) {
-        std::vector<const char*> all = {"type", "uv_scale", "uv_offset"};
-        all.insert(all.end(), keys.begin(), keys.end());
-        for (std::size_t i = 0; i < def.members().size(); ++i) {
-            const std::string& key = def.members()[i].first;
-            if (std::find_if(all.begin(), all.end(), [&](const char* k) { return key == k; }) != all.end()) continue;
-            std::vector<std::string> names(all.begin(), all.end());
-            fail(def.key_pos(i), "unknown key " + quote_text(key) + " in " + what + " of type " + quote_text(type) +
-                                     "." + suggestion(key, names) + " Expected one of: " + join(names));
-        }
+    // The (u, v) transform, which every type has.
+    const auto uv_transform = [&] {
         if (const ParamValue* s = def.find("uv_scale")) {
             const auto c = numbers(*s, what + " uv_scale", 2);
             for (double x : c)
@@ -94,12 +85,12 @@ Texture TextureParser::build(const std::string& name, const ParamValue& def, Tex
         }
     };
     if (type == "checkerboard") {
-        common({"even", "odd"});
+        uv_transform();
         t.pattern = CheckerboardTexture{};
         add_value(t, required(def, "even", what), what + " even", use, scale);
         add_value(t, required(def, "odd", what), what + " odd", use, scale);
     } else if (type == "gradient") {
-        common({"start", "end", "axis"});
+        uv_transform();
         GradientTexture g;
         if (const ParamValue* a = def.find("axis")) {
             const std::string& axis = string(*a, what + " axis");
@@ -110,13 +101,14 @@ Texture TextureParser::build(const std::string& name, const ParamValue& def, Tex
         add_value(t, required(def, "start", what), what + " start", use, scale);
         add_value(t, required(def, "end", what), what + " end", use, scale);
     } else if (type == "image") {
-        common({"file", "wrap", "filter", "encoding"});
+        uv_transform();
         image(t, def, what, use, scale);
     } else {
         const std::vector<std::string> types = {"checkerboard", "gradient", "image"};
         fail(def.find("type")->pos(), "unknown texture type " + quote_text(type) + "." + suggestion(type, types) +
                                           " Expected one of: " + join(types));
     }
+    all_read(def, what + " of type " + quote_text(type));
     return t;
 }
 

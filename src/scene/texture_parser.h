@@ -19,16 +19,16 @@ enum class TextureUse { reflectance, emission, number };
 
 class TextureParser : public ParamChecker {
 public:
-    TextureParser(const std::string& origin, SpectralResolution resolution, const SpectrumParser& spectra,
+    TextureParser(const SourceFiles& files, SpectralResolution resolution, const SpectrumParser& spectra,
                   const RelativeFileReader& read_relative, Scene& scene)
-        : ParamChecker(origin), m_resolution(resolution), m_spectra(spectra), m_read_relative(read_relative),
+        : ParamChecker(files), m_resolution(resolution), m_spectra(spectra), m_read_relative(read_relative),
           m_scene(scene) {}
 
     /// Reads the top-level "textures" object (checked when a value names a texture).
     void definitions(const ParamValue& v);
 
     /// True when `v` names a texture ({"texture": ...}) rather than giving a value.
-    static bool is_binding(const ParamValue& v) { return v.is_object() && v.find("texture"); }
+    static bool is_binding(const ParamValue& v) { return v.is_object() && v.peek("texture"); }
 
     /// The index in Scene::textures of the texture `v` names, built for `use`; `what` names
     /// the value in messages. Throws LocatedError.
