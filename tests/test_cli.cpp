@@ -779,6 +779,15 @@ std::set<std::string> flags_in(const std::string& text) {
     return flags;
 }
 
+// The default scene is the one constant: what a command line without SCENE renders, what --help
+// says it is, and a built-in scene.
+TEST(CliFlags, TheDefaultSceneIsOneBuiltInName) {
+    EXPECT_EQ(spt::Options{}.scene, spt::kDefaultScene);
+    EXPECT_NE(spt::usage_text().find("(default: " + std::string(spt::kDefaultScene) + "; see"), std::string::npos);
+    const std::vector<std::string> names = spt::builtin_scene_names();
+    EXPECT_NE(std::find(names.begin(), names.end(), spt::kDefaultScene), names.end());
+}
+
 // "Did you mean" knows every flag, --help documents every flag, and the README's synopsis (the
 // code block under "## Using it") lists every flag: a new flag missing from one fails here.
 TEST(CliFlags, HelpReadmeAndSuggestionsKnowTheSameFlags) {

@@ -146,7 +146,7 @@ TEST(SceneLoader, ErrorsNameFileLineColumnAndSuggest) {
 TEST(SceneLoader, BuiltinNamesComeFromTheEmbeddedFiles) {
     const auto names = builtin_scene_names();
     ASSERT_GE(names.size(), 2u);
-    EXPECT_EQ(names[0], "cornell");
+    EXPECT_EQ(names[0], kDefaultScene);
     EXPECT_NE(std::find(names.begin(), names.end(), "cornell-point"), names.end());
     for (const std::string& n : names) EXPECT_TRUE(load_builtin_scene(n, {}).has_value()) << n;
     EXPECT_FALSE(load_builtin_scene("no-such-scene", {}).has_value());

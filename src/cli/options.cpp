@@ -78,7 +78,7 @@ std::string usage_text() {
     return R"(Usage: pathtracer [SCENE] [options]
        pathtracer merge PART.film... -o FILE [-o FILE...] [output options]
 
-Spectral Monte Carlo path tracer. SCENE is a built-in scene name (default: cornell; see
+Spectral Monte Carlo path tracer. SCENE is a built-in scene name (default: )" + std::string(kDefaultScene) + R"(; see
 --list-scenes) or a scene file (.json, format in scenes/README.md). An error in a scene file
 is reported as FILE:LINE:COLUMN: message, with exit status 1.
 

@@ -14,6 +14,7 @@
 #include "render/integrator.h"
 #include "render/sampler_kind.h"
 #include "render/renderer.h"
+#include "scene/scene_loader.h"
 #include "spectral/chromatic_adaptation.h"
 #include "spectral/spectral_bands.h"
 #include "spectral/spectrum.h"
@@ -26,7 +27,7 @@ struct UsageError : std::runtime_error {
 };
 
 struct Options {
-    std::string scene = "cornell";
+    std::string scene = kDefaultScene;
     std::optional<int> spp, width, height;  ///< unset: the scene's defaults
     std::optional<double> scale;            ///< the scene's size times this (not with width/height)
     std::vector<std::string> outputs;       ///< unset: "<scene>.png"

@@ -41,7 +41,10 @@ Scene load_scene_text(std::string_view text, const std::string& origin, const st
 /// Loads a scene file from disk; meshes are found relative to its folder. Throws LocatedError.
 Scene load_scene_file(const std::string& path, SpectralResolution resolution, InputFiles* input_files = nullptr);
 
-/// Names of the scenes compiled into the program (scenes/*.json), the default "cornell" first.
+/// The scene rendered when the command line names none: a built-in scene's name.
+inline constexpr char kDefaultScene[] = "cornell";
+
+/// Names of the scenes compiled into the program (scenes/*.json), kDefaultScene first.
 std::vector<std::string> builtin_scene_names();
 
 /// A built-in scene by name (loaded from its embedded file), or nullopt if there is none.

@@ -87,7 +87,7 @@ std::vector<std::string> builtin_scene_names() {
             names.emplace_back(file.substr(7, file.size() - 12));
     }
     std::sort(names.begin(), names.end(), [](const std::string& a, const std::string& b) {
-        if ((a == "cornell") != (b == "cornell")) return a == "cornell";
+        if ((a == kDefaultScene) != (b == kDefaultScene)) return a == kDefaultScene;
         return a < b;
     });
     return names;
