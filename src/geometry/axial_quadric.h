@@ -30,6 +30,24 @@ inline void axial_uv(const Vec3& p, const Vec3& base, const DVec3& a, double hei
     v = static_cast<float>(std::clamp(dot(q, a) / height, 0.0, 1.0));
 }
 
+/// The unit vector at angle φ about the unit axis a, from the tangent s of tangent_basis(a)
+/// towards t: the angle axial_uv measures.
+inline DVec3 direction_about_axis(const DVec3& a, double phi) {
+    DVec3 s, t;
+    tangent_basis(a, s, t);
+    return std::cos(phi) * s + std::sin(phi) * t;
+}
+
+/// The unit vector along r, the part of a point across the unit axis a; on the axis itself
+/// (r = 0), where every direction across is as good, the tangent s of tangent_basis(a).
+inline DVec3 radial_direction(const DVec3& r, const DVec3& a) {
+    const double len = length(r);
+    if (len > 0.0) return r * (1.0 / len);
+    DVec3 s, t;
+    tangent_basis(a, s, t);
+    return s;
+}
+
 /// The roots of an axial quadric along a ray, each with a bound on its rounding error.
 struct AxialRoots {
     int count = 0;                ///< 0, 1 or 2 (A = 0: one root)

@@ -75,10 +75,8 @@ struct Cone {
     /// w = √u1 (as a fraction of the slant); angle uniform about the axis.
     SurfaceSample sample_area(float u1, float u2) const {
         const DVec3 a = unit_axis();
-        DVec3 s, t;
-        tangent_basis(a, s, t);
-        const double phi = 2.0 * kPiDouble * u2, w = std::sqrt(double(u1));
-        const DVec3 e = std::cos(phi) * s + std::sin(phi) * t;
+        const double w = std::sqrt(double(u1));
+        const DVec3 e = direction_about_axis(a, 2.0 * kPiDouble * u2);
         SurfaceSample out;
         out.p = (DVec3(base) + (double(height) * (1.0 - w)) * a + (double(radius) * w) * e).to_float();
         out.p_err = double_point_error(out.p, magnitude());
@@ -104,9 +102,7 @@ private:
         const double z = dot(q, a);
         const DVec3 r = q - z * a;
         const double len = length(r);
-        DVec3 e, t;
-        if (len > 0.0) e = r * (1.0 / len);
-        else tangent_basis(a, e, t);
+        const DVec3 e = radial_direction(r, a);
         // Generator: (radius·(1 − s), height·s) for s in [0, 1]; project (len, z) onto it.
         const double rr = radius, h = height;
         const double s = std::clamp(((rr - len) * rr + z * h) / (rr * rr + h * h), 0.0, 1.0);

@@ -72,10 +72,7 @@ struct Cylinder {
     /// Uniform by area: height uniform along the axis, angle uniform about it.
     SurfaceSample sample_area(float u1, float u2) const {
         const DVec3 a = unit_axis();
-        DVec3 s, t;
-        tangent_basis(a, s, t);
-        const double phi = 2.0 * kPiDouble * u2;
-        const DVec3 n = std::cos(phi) * s + std::sin(phi) * t;
+        const DVec3 n = direction_about_axis(a, 2.0 * kPiDouble * u2);
         const Vec3 p = (DVec3(base) + (double(height) * u1) * a + double(radius) * n).to_float();
         return {p, double_point_error(p, magnitude()), n.to_float()};
     }
@@ -88,14 +85,6 @@ struct Cylinder {
 private:
     /// Largest magnitude in the double arithmetic of points on the surface (for their error).
     double magnitude() const { return max_abs(DVec3(base)) + radius + height; }
-    /// Unit vector along the radial part r of a point (any perpendicular on the axis itself).
-    static DVec3 radial_direction(const DVec3& r, const DVec3& a) {
-        const double len = length(r);
-        if (len > 0.0) return r * (1.0 / len);
-        DVec3 s, t;
-        tangent_basis(a, s, t);
-        return s;
-    }
 };
 
 template <>
