@@ -39,6 +39,36 @@ void expect_near(const Vec3& a, const Vec3& b, float tolerance, const std::strin
 /// Translation 0 → (2, 0, 0) and rotation 0 → 90° about z around the pivot (1, 0, 0): at
 /// t = 0.5 the point (2, 0, 0) has turned 45° about the pivot and moved by 1; the inverse
 /// undoes it; outside the keyframes the motion holds still.
+/// Rays from the plane z = 4 towards the box [x0, x0 + 2] × [−1, 1]²: `moving` at `time` is hit
+/// where `placed` (the same shapes moved by hand to their place at `time`) is, at the same
+/// distance, point and normal, and occludes up to that distance and no further; more than
+/// `min_hits` hits, and at most 4 rays that graze an edge or rim hit one and miss the other
+/// (rounding may differ there).
+void expect_hits_where_placed(const Scene& moving, const Scene& placed, float time, Rng& rng, float x0, int min_hits) {
+    int hits = 0, mismatches = 0;
+    for (int i = 0; i < 4000; ++i) {
+        const Vec3 o(rng.uniform() * 6 - 3, rng.uniform() * 6 - 3, 4.f);
+        const Vec3 target(rng.uniform() * 2 + x0, rng.uniform() * 2 - 1, rng.uniform() * 2 - 1);
+        const Ray ray{o, normalize(target - o), kInfinity};
+        const auto a = moving.intersect(ray, time);
+        const auto b = placed.intersect(ray);
+        if (a.has_value() != b.has_value()) {
+            ++mismatches;
+            continue;
+        }
+        if (!a) continue;
+        ++hits;
+        EXPECT_NEAR(a->t, b->t, 1e-4f * b->t) << time;
+        expect_near(a->p, b->p, 1e-4f, "hit point");
+        EXPECT_NEAR(dot(a->n, b->n), 1.f, 1e-4f);
+        EXPECT_EQ(a->prim.kind(), ShapeKind::moving);
+        EXPECT_EQ(moving.occluded(Ray{o, ray.d, a->t * 0.999f}, {}, time), false);
+        EXPECT_EQ(moving.occluded(Ray{o, ray.d, a->t * 1.001f}, {}, time), true);
+    }
+    EXPECT_GT(hits, min_hits) << time;
+    EXPECT_LE(mismatches, 4) << time;
+}
+
 TEST(MotionBlur, RigidMotionInterpolatesAndInverts) {
     RigidMotion m;
     m.pivot = Vec3(1, 0, 0);
@@ -223,28 +253,7 @@ TEST(MotionBlur, MovingMeshHitsWhereTheMovedMeshIs) {
         for (const auto& t : rest)
             placed.triangles.push_back(Triangle{xf.point(t[0]), xf.point(t[1]), xf.point(t[2]), 0, -1, -1});
         placed.finalize();
-        int hits = 0, mismatches = 0;
-        for (int i = 0; i < 4000; ++i) {
-            const Vec3 o(rng.uniform() * 6 - 3, rng.uniform() * 6 - 3, 4.f);
-            const Vec3 target(rng.uniform() * 2 - 0.5f, rng.uniform() * 2 - 1, rng.uniform() * 2 - 1);
-            const Ray ray{o, normalize(target - o), kInfinity};
-            const auto a = moving.intersect(ray, time);
-            const auto b = placed.intersect(ray);
-            if (a.has_value() != b.has_value()) {
-                ++mismatches;  // grazing an edge: rounding may differ
-                continue;
-            }
-            if (!a) continue;
-            ++hits;
-            EXPECT_NEAR(a->t, b->t, 1e-4f * b->t) << time;
-            expect_near(a->p, b->p, 1e-4f, "hit point");
-            EXPECT_NEAR(dot(a->n, b->n), 1.f, 1e-4f);
-            EXPECT_EQ(a->prim.kind(), ShapeKind::moving);
-            EXPECT_EQ(moving.occluded(Ray{o, ray.d, a->t * 0.999f}, {}, time), false);
-            EXPECT_EQ(moving.occluded(Ray{o, ray.d, a->t * 1.001f}, {}, time), true);
-        }
-        EXPECT_GT(hits, 150) << time;
-        EXPECT_LE(mismatches, 4) << time;
+        expect_hits_where_placed(moving, placed, time, rng, -0.5f, 150);
     }
 }
 
@@ -279,28 +288,7 @@ TEST(MotionBlur, MovingQuadricsHitWhereTheMovedQuadricsAre) {
         k.base = xf.point(k.base), k.axis = normalize(xf.vector(k.axis));
         placed.disks.push_back(d), placed.cylinders.push_back(c), placed.cones.push_back(k);
         placed.finalize();
-        int hits = 0, mismatches = 0;
-        for (int i = 0; i < 4000; ++i) {
-            const Vec3 o(rng.uniform() * 6 - 3, rng.uniform() * 6 - 3, 4.f);
-            const Vec3 target(rng.uniform() * 2 - 1, rng.uniform() * 2 - 1, rng.uniform() * 2 - 1);
-            const Ray ray{o, normalize(target - o), kInfinity};
-            const auto a = moving.intersect(ray, time);
-            const auto b = placed.intersect(ray);
-            if (a.has_value() != b.has_value()) {
-                ++mismatches;  // grazing a rim: rounding may differ
-                continue;
-            }
-            if (!a) continue;
-            ++hits;
-            EXPECT_NEAR(a->t, b->t, 1e-4f * b->t) << time;
-            expect_near(a->p, b->p, 1e-4f, "hit point");
-            EXPECT_NEAR(dot(a->n, b->n), 1.f, 1e-4f);
-            EXPECT_EQ(a->prim.kind(), ShapeKind::moving);
-            EXPECT_EQ(moving.occluded(Ray{o, ray.d, a->t * 0.999f}, {}, time), false);
-            EXPECT_EQ(moving.occluded(Ray{o, ray.d, a->t * 1.001f}, {}, time), true);
-        }
-        EXPECT_GT(hits, 300) << time;
-        EXPECT_LE(mismatches, 4) << time;
+        expect_hits_where_placed(moving, placed, time, rng, -1.f, 300);
     }
     const Scene loaded = load(R"({"camera": {"position": [0, 0, 3], "look_at": [0, 0, 0]}, "materials": {"g": {"kd": 0.5}},
       "shapes": [{"type": "cone", "base": [0, 0, 0], "axis": [0, 1, 0], "radius": 0.5, "height": 1, "material": "g",
