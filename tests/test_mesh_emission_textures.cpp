@@ -140,7 +140,7 @@ TEST(MeshEmissionTexture, LightSamplesAndHitsReadTheSameTexel) {
                 const std::optional<Hit> hit = scene.intersect(Ray{ctx.p, ls->wi, kInfinity});
                 ASSERT_TRUE(hit.has_value());
                 ASSERT_EQ(hit->light, light);
-                const SampledSpectrum at_hit = scene.emitted_textured(*hit, lambda);
+                const SampledSpectrum at_hit = scene.emitted<true>(*hit, -ls->wi, lambda);
                 ++total;
                 same += at_sample[0] == at_hit[0];
                 bright += at_sample[0] > 2.f;

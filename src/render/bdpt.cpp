@@ -64,6 +64,12 @@ bool scatters(const Vertex& v) { return v.type == VertexType::surface || v.type 
 const Light* light_of(const Scene& scene, const Vertex& light) {
     return light.hit.light >= 0 ? &scene.lights[static_cast<std::size_t>(light.hit.light)] : nullptr;
 }
+/// |cos| at an area light's origin towards w (unit), or 0 where the light does not emit along
+/// w (the back of a one-sided light: its origins leave only by its front).
+float emitting_cos(const Scene& scene, const Vertex& origin, const Vec3& w) {
+    if (!light_emits_towards(scene.lights[static_cast<std::size_t>(origin.hit.light)], origin.hit.n, w)) return 0.f;
+    return std::fabs(dot(origin.hit.n, w));
+}
 /// The delta-position light (point, spot) a light origin is, or nullptr.
 const Light* delta_position_light_of(const Scene& scene, const Vertex& light) {
     const Light* l = light_of(scene, light);
@@ -537,7 +543,7 @@ void Bdpt::splat_light_tracing(std::vector<Splat>& splats) {
         if (scatters(qs))
             c *= f_cos(qs, w_cam, lambda_for(terminated), Transport::importance) *
                  shading_correction(qs.hit, qs.wo, w_cam);
-        else if (qs.on_surface()) c *= std::fabs(dot(qs.hit.n, w_cam));  // an area light's origin
+        else if (qs.on_surface()) c *= emitting_cos(m_scene, qs, w_cam);  // an area light's origin
         if (c.is_zero() || (!m_media && !visible(qs, pt))) continue;
         c *= mis_weight(s, 1, tr.T[0]);
         SampledWavelengths lw = m_lambda;
@@ -574,8 +580,7 @@ SampledSpectrum Bdpt::connect() {
             if (s == 0) {
                 // The camera path hits an emitter.
                 if (pt.type != VertexType::surface || pt.hit.light < 0) continue;
-                const SampledSpectrum c = pt.beta * (m_scene.effects.textures ? m_scene.emitted_textured(pt.hit, m_lambda)
-                                                                              : m_scene.emitted(pt.hit, m_lambda));
+                const SampledSpectrum c = pt.beta * m_scene.emitted<true>(pt.hit, pt.wo, m_lambda);
                 if (c.is_zero()) continue;
                 const float w = m_ctx.lights.origin_pdf(pt.hit) > 0.f ? mis_weight(0, t) : 1.f;
                 accumulate(c * w, terminated);
@@ -610,7 +615,7 @@ SampledSpectrum Bdpt::connect() {
             SampledSpectrum c = qs.beta * pt.beta * tr.T * f_cos(pt, w_pt, lw, Transport::radiance) / dist2;
             if (scatters(qs))
                 c *= f_cos(qs, -w_pt, lw, Transport::importance) * shading_correction(qs.hit, qs.wo, -w_pt);
-            else if (qs.on_surface()) c *= std::fabs(dot(qs.hit.n, w_pt));  // an area light's origin
+            else if (qs.on_surface()) c *= emitting_cos(m_scene, qs, -w_pt);  // an area light's origin
             else if (const Light* l = delta_position_light_of(m_scene, qs)) c *= light_falloff(*l, -w_pt);
             if (c.is_zero() || (!m_media && !visible(pt, qs))) continue;
             accumulate(c * mis_weight(s, t, tr.T[0]), terminated);

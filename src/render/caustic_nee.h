@@ -150,7 +150,8 @@ inline float chain_root_area_density(const ChainLightSample& s, const SphereChai
         const float p_snee = p_choice / dw_dA;
         const float p_chain = bsdf_pdf(bsdf, wo, wx, hit.ns, lambda.lambda[0]) * t_in * t_out;
         const SampledSpectrum kt = gs.kt.sample(lambda);
-        const SampledSpectrum Le = light_emitted(scene.lights[static_cast<std::size_t>(light)], lambda);
+        const SampledSpectrum Le =
+            light_emitted(scene.lights[static_cast<std::size_t>(light)], y, ls.n_y, -r.w_exit.to_float(), lambda);
         sum += f_cos * kt * kt * Le * (t_in * t_out * power_heuristic(p_snee, p_chain) / p_snee);
     }
     return sum;

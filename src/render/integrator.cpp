@@ -120,8 +120,7 @@ template <bool kTextured, bool kCaustic, class Sampler>
             float w = mis.weight(scene, choices, hit->light, ray.d, &*hit);
             if constexpr (kCaustic)
                 w = chains.emission_weight(scene, *hit, hit->light, lambda, settings.caustic_nee_bug, w);
-            if constexpr (kTextured) L += beta * scene.emitted_textured(*hit, lambda) * w;
-            else L += beta * scene.emitted(*hit, lambda) * w;
+            L += beta * scene.emitted<kTextured>(*hit, wo, lambda) * w;
         }
         if (!mat.reflects() || depth == settings.max_depth) break;
         const Bsdf* bsdf_at_hit = &mat.bsdf;

@@ -109,7 +109,8 @@ inline SampledSpectrum sphere_reflectance(const ReflectingSphere& rs, float cos_
         const float p_snee = p_choice / dw_dA;
         const float p_chain = bsdf_pdf(bsdf, wo, wx, hit.ns, lambda.lambda[0]) *
                               sphere_reflection_probability(rs, cos_in, lambda, terminated);
-        const SampledSpectrum Le = light_emitted(scene.lights[static_cast<std::size_t>(light)], lambda);
+        const SampledSpectrum Le =
+            light_emitted(scene.lights[static_cast<std::size_t>(light)], y, ls.n_y, -r.w_exit.to_float(), lambda);
         sum += f_cos * rho * Le * (power_heuristic(p_snee, p_chain) / p_snee);
     }
     return sum;

@@ -267,10 +267,7 @@ SegmentTransmittance segment_transmittance(const Scene& scene, Ray ray, int medi
         crossings = 0;
         const Material& mat = scene.materials[hit->material];
         const Vec3 wo = -ray.d;
-        if (hit->light >= 0)
-            add_emission(hit->light,
-                         scene.effects.textures ? scene.emitted_textured(*hit, lambda) : scene.emitted(*hit, lambda),
-                         &*hit);
+        if (hit->light >= 0) add_emission(hit->light, scene.emitted<true>(*hit, wo, lambda), &*hit);
         if (!mat.reflects() || depth == settings.max_depth) break;
         ++depth;
         const Bsdf& bsdf = scene.bsdf_at(*hit);

@@ -215,7 +215,7 @@ void Wavefront::shade(int begin, int end, ChunkQueues& out, PathStats& stats) {
         // Emission found by the path
         if (hit.light >= 0) {
             const float w = path.mis.weight(scene, choices, hit.light, path.ray.d, &hit);
-            path.L += path.beta * scene.emitted(hit, lambda) * w;
+            path.L += path.beta * scene.emitted(hit, wo, lambda) * w;
         }
         if (!mat.reflects() || path.depth == settings.max_depth) continue;
         const Bsdf& bsdf = mat.bsdf;

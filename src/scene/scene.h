@@ -146,9 +146,16 @@ struct Scene : ShapeArrays {
     const EnvironmentLight* environment() const {
         return environment_index >= 0 ? &std::get<EnvironmentLight>(lights[environment_index]) : nullptr;
     }
-    /// The emitted radiance of the light at `hit`'s shape (zero if it has none).
-    [[gnu::always_inline]] SampledSpectrum emitted(const Hit& hit, const SampledWavelengths& lambda) const {
-        return hit.light >= 0 ? light_emitted(lights[hit.light], lambda) : SampledSpectrum(0.f);
+    /// Radiance leaving the emitter of `hit`'s shape towards wo (zero if it has none, or
+    /// shows wo its back): the light's L. kTextured (scenes with textures): an emitter with
+    /// an emission texture gives the texture's value at the hit's (u, v) instead.
+    template <bool kTextured = false>
+    [[gnu::always_inline]] SampledSpectrum emitted(const Hit& hit, const Vec3& wo,
+                                                   const SampledWavelengths& lambda) const {
+        if (hit.light < 0) return SampledSpectrum(0.f);
+        if constexpr (kTextured)
+            if (light_textured(hit.light)) return texture_emission(hit, wo, lambda);
+        return light_emitted(lights[hit.light], hit.p, hit.n, wo, lambda);
     }
     /// Surface coordinates of a hit (see each shape's uv()).
     void surface_uv(const Hit& hit, float& u, float& v) const;
@@ -174,8 +181,6 @@ struct Scene : ShapeArrays {
         thread_local Bsdf scratch;
         return textured_bsdf(hit, scratch);
     }
-    /// emitted() with textured emitters read at the hit's (u, v).
-    SampledSpectrum emitted_textured(const Hit& hit, const SampledWavelengths& lambda) const;
     /// True when light `index` has an emission texture.
     bool light_textured(int index) const {
         return static_cast<std::size_t>(index) < light_textures.size() && light_textures[static_cast<std::size_t>(index)] >= 0;
@@ -250,6 +255,9 @@ struct Scene : ShapeArrays {
     Aabb pivot_box_since(const ShapeCounts& first) const;
 
 private:
+    /// emitted() of a light with an emission texture: its value at the hit's (u, v) on the
+    /// light's emitting sides.
+    SampledSpectrum texture_emission(const Hit& hit, const Vec3& wo, const SampledWavelengths& lambda) const;
     /// The rest of intersect() without a BVH and moving shapes: spheres and triangles in
     /// lanes (a small scene's few), given the nearest plane so far.
     [[gnu::always_inline]] std::optional<Hit> intersect_few(const Ray& ray, double t_best, int best_plane) const {

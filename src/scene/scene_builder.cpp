@@ -369,9 +369,26 @@ private:
     }
 
     /// shape_surface with the shape's own way of making its emitter (a quad's light knows
-    /// its corners).
+    /// its corners), and the emitter's sides ("two_sided", default true: both emit).
     template <typename MakeEmitter>
     Surface shape_surface(const ParamValue& v, const std::string& what, const MakeEmitter& make_emitter) {
+        const Surface surface = surface_of(v, what, make_emitter);
+        const ParamValue* two_sided = v.find("two_sided");
+        if (!two_sided) return surface;
+        if (!two_sided->is_bool()) wrong_type(*two_sided, what + " two_sided", "true or false");
+        if (surface.light < 0)
+            fail(two_sided->pos(), what + " has \"two_sided\" but emits nothing; expected it only on an emitting shape");
+        if (two_sided->as_bool()) return surface;
+        Light& light = m_scene.lights[static_cast<std::size_t>(surface.light)];
+        if (!light_can_be_one_sided(light))
+            fail(two_sided->pos(), what + " always emits from both sides; expected \"two_sided\": false only on a "
+                                          "quad, triangle, mesh, disk, cylinder or cone");
+        light_make_one_sided(light);
+        return surface;
+    }
+
+    template <typename MakeEmitter>
+    Surface surface_of(const ParamValue& v, const std::string& what, const MakeEmitter& make_emitter) {
         const ParamValue* name = v.find("material");
         const ParamValue* emission = v.find("emission");
         if (name && emission) fail(v.pos(), what + " has both \"material\" and \"emission\"; expected one of them");

@@ -73,9 +73,8 @@ const Bsdf& Scene::textured_bsdf(const Hit& hit, Bsdf& scratch) const {
     return scratch;
 }
 
-SampledSpectrum Scene::emitted_textured(const Hit& hit, const SampledWavelengths& lambda) const {
-    if (hit.light < 0) return SampledSpectrum(0.f);
-    if (!light_textured(hit.light)) return emitted(hit, lambda);
+SampledSpectrum Scene::texture_emission(const Hit& hit, const Vec3& wo, const SampledWavelengths& lambda) const {
+    if (!light_emits_towards(lights[static_cast<std::size_t>(hit.light)], hit.n, wo)) return SampledSpectrum(0.f);
     float u, v;
     surface_uv(hit, u, v);
     return texture_spectrum(textures[static_cast<std::size_t>(light_textures[static_cast<std::size_t>(hit.light)])], u,

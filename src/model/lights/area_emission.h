@@ -1,7 +1,12 @@
-// Emission sampling shared by the area lights: both sides of an area emitter emit Le, so a
-// light subpath leaves a sampled surface point on a side chosen with probability 1/2, in a
-// cosine-weighted direction on it.
+// What the area lights share: which sides emit, emission sampling, and the conversion of an
+// area density to solid angle. A two-sided emitter emits Le from both sides of its surface; a
+// one-sided one only from its front, the side its normal (Hit::n, the shape's orientation)
+// points to, and is black seen from behind. A light subpath leaves a sampled surface point in
+// a cosine-weighted direction on an emitting side (for a two-sided light, each side with
+// probability 1/2).
 #pragma once
+#include <algorithm>
+#include <cmath>
 #include <optional>
 
 #include "core/frame.h"
@@ -10,20 +15,39 @@
 
 namespace spt {
 
-/// Fills o.w, o.Le and o.pdf_dir for the point o.p of normal o.n; nullopt at the horizon.
-inline std::optional<LightOrigin> emit_two_sided(LightOrigin o, const SampledSpectrum& Le, float u_side,
-                                                 float u1, float u2) {
-    const Vec3 side = u_side < 0.5f ? o.n : -o.n;
+/// Whether an area light of normal n at a point emits along w: from both sides, or
+/// (one-sided) only towards its front.
+[[gnu::always_inline]] inline bool emits_towards(bool two_sided, const Vec3& n, const Vec3& w) {
+    return two_sided || dot(n, w) > 0.f;
+}
+
+/// Emitted power of an area light of uniform radiance: ∫∫ L |cos| dA dω = π·A·Le per side.
+template <typename SpectrumT>
+float area_light_power(bool two_sided, float area, const SpectrumT& Le) {
+    return (two_sided ? 2.f : 1.f) * kPi * area * mean_over_visible(Le);
+}
+
+/// Fills o.w, o.Le and o.pdf_dir for the point o.p of normal o.n (a side chosen by u_side
+/// when both emit, else the front); nullopt at the horizon.
+inline std::optional<LightOrigin> emit_from_surface(LightOrigin o, const SampledSpectrum& Le, bool two_sided,
+                                                    float u_side, float u1, float u2) {
+    const Vec3 side = !two_sided || u_side < 0.5f ? o.n : -o.n;
     const Vec3 local = sample_cosine_hemisphere(u1, u2);
     if (!(local.z > 0.f)) return std::nullopt;
     o.w = Frame(side).to_world(local);
     o.Le = Le;
-    o.pdf_dir = 0.5f * local.z * kInvPi;
+    o.pdf_dir = (two_sided ? 0.5f : 1.f) * local.z * kInvPi;
     return o;
 }
 
+/// Solid-angle density of emitting towards w from an area emitter of normal n (emit_from_surface's).
+inline float emission_direction_pdf(bool two_sided, const Vec3& n, const Vec3& w) {
+    if (two_sided) return 0.5f * std::fabs(dot(n, w)) * kInvPi;
+    return std::max(0.f, dot(n, w)) * kInvPi;
+}
+
 /// Solid-angle density of emitting towards w from a two-sided area emitter of normal n.
-inline float two_sided_direction_pdf(const Vec3& n, const Vec3& w) { return 0.5f * std::fabs(dot(n, w)) * kInvPi; }
+inline float two_sided_direction_pdf(const Vec3& n, const Vec3& w) { return emission_direction_pdf(true, n, w); }
 
 /// Area density at a light point turned into solid angle at the reference point:
 /// pdf_area · r² / |cos θ_light|; 0 when the light is seen edge-on.

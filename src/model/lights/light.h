@@ -18,19 +18,25 @@
 ///                                 forwarding): wi, L arriving along −wi, the solid-angle
 ///                                 density pdf of wi (1 for a delta light, with delta set),
 ///                                 the light point for the shadow ray; false when nothing can
-///                                 arrive.
+///                                 arrive (a point on the back of a one-sided light is no
+///                                 sample).
 // Non-delta lights have:
 ///  pdf_li(...)                    the solid-angle density with which sample_li would
-///                                 produce a direction wi from ctx: (ctx, p, n) for a ray
+///                                 produce a direction wi from ctx (0 where it returns no
+///                                 sample, as behind a one-sided light): (ctx, p, n) for a ray
 ///                                 that found the light at the point p (normal n), (ctx, wi)
 ///                                 for the infinite plane and the environment (light_pdf_li
 ///                                 picks the form).
 // Area lights (type area) have:
-///  L(p, n, w, λ)                  radiance leaving the surface at p (normal n) along w, and
-///  two_sided                      whether both sides emit it. Every area light is two-sided
-///                                 today: light_emitted reads L without a point or direction
-///                                 (and refuses a one-sided light at compile time: Scene::
-///                                 emitted would then have to pass the hit and wo).
+///  L(p, n, w, λ)                  radiance leaving the surface at p (normal n: the shape's
+///                                 own, Hit::n) along w, and
+///  two_sided                      whether both sides emit it; if not, only the front (the
+///                                 side n points to) does, and sample_li, pdf_li, sample_le,
+///                                 pdf_le_dir and power() all see only the front
+///                                 (area_emission.h). A `static constexpr` member for types
+///                                 that are always two-sided (the sphere, the plane: no test
+///                                 per hit), a `bool` member for those a scene may make
+///                                 one-sided (quads, triangles, quadrics).
 ///  closed (optional)              the surface encloses a volume: from outside only its
 ///                                 outside is seen (the sphere).
 ///  sample_area_facing(c, R, u1, u2, y, n, pdf) / pdf_area_facing(c, R, y) (optional)
@@ -65,6 +71,7 @@
 #include <variant>
 
 #include "geometry/ray.h"
+#include "model/lights/area_emission.h"
 #include "model/lights/environment_light.h"
 #include "model/lights/plane_light.h"
 #include "model/lights/point_light.h"
@@ -88,6 +95,7 @@ constexpr unsigned light_types(std::initializer_list<LightType> types) {
 }
 inline constexpr unsigned kDeltaPositionLights = light_types({LightType::delta_position});
 inline constexpr unsigned kInfiniteLights = light_types({LightType::infinite});
+inline constexpr unsigned kAreaLights = light_types({LightType::area});
 inline constexpr unsigned kAnyLight = ~0u;
 
 namespace detail {
@@ -159,17 +167,31 @@ inline float light_pdf_li(const Light& light, const LightSampleContext& ctx, con
         light);
 }
 
-/// Radiance leaving an area light where a ray hit it (0 for the other lights): L of the
-/// contract, which for a two-sided emitter depends on neither the point nor the direction.
-[[gnu::always_inline]] inline SampledSpectrum light_emitted(const Light& light, const SampledWavelengths& lambda) {
-    return visit_light_of(light, [&](const auto& l) -> SampledSpectrum {
-        using T = std::decay_t<decltype(l)>;
-        if constexpr (T::type != LightType::area) return SampledSpectrum(0.f);
-        else {
-            static_assert(T::two_sided, "a one-sided light needs the hit and wo: pass them to L here");
-            return l.L(Vec3(), Vec3(), Vec3(), lambda);
-        }
-    });
+/// Radiance leaving an area light at p (the shape's normal n) along w: L of the contract.
+/// For an area light only (what Hit::light names).
+[[gnu::always_inline]] inline SampledSpectrum light_emitted(const Light& area_light, const Vec3& p, const Vec3& n,
+                                                            const Vec3& w, const SampledWavelengths& lambda) {
+    return visit_light_of<kAreaLights>(area_light, [&](const auto& l) { return l.L(p, n, w, lambda); });
+}
+
+/// Whether an area light emits along w at a point of normal n (its emitting sides).
+[[gnu::always_inline]] inline bool light_emits_towards(const Light& area_light, const Vec3& n, const Vec3& w) {
+    return visit_light_of<kAreaLights>(area_light, [&](const auto& l) { return emits_towards(l.two_sided, n, w); });
+}
+
+/// Whether a scene may make the light one-sided (it has a `bool two_sided`).
+inline bool light_can_be_one_sided(const Light& light) {
+    return std::visit([](const auto& l) { return requires(std::decay_t<decltype(l)> & m) { m.two_sided = false; }; },
+                      light);
+}
+
+/// Makes the light one-sided (only its front emits); light_can_be_one_sided must hold.
+inline void light_make_one_sided(Light& light) {
+    std::visit(
+        [](auto& l) {
+            if constexpr (requires { l.two_sided = false; }) l.two_sided = false;
+        },
+        light);
 }
 
 /// Radiance arriving along an escaped ray of direction d, from an infinite light.

@@ -75,6 +75,7 @@ struct PlaneLight {
     Spectrum Le;  ///< radiance, both sides
     /// A surface that rays hit, of infinite area: no sample_le (it starts no light subpath).
     static constexpr LightType type = LightType::area;
+    /// Both sides emit, always (the lune samplers assume it).
     static constexpr bool two_sided = true;
     /// The radius of the scene's bounding sphere: the plane's power for light selection is
     /// what it sends into a disk of that radius, π·Le·πR² (it has no finite power).

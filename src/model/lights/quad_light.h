@@ -1,4 +1,5 @@
-// An emitting rectangle (corner o, edges e1 and e2; Le from both sides). Next-event
+// An emitting rectangle (corner o, edges e1 and e2; Le from both sides, or one-sided from
+// the front, the side of n = e1 × e2: see area_emission.h). Next-event
 // estimation samples the solid angle it subtends, with the area-preserving parametrization
 // of spherical rectangles (Ureña, Fajardo and King, EGSR 2013): every direction of the
 // spherical rectangle is equally likely (pdf 1/Ω), so neither the 1/r² of a close light nor
@@ -15,7 +16,10 @@
 // edge-on: no sample, density 0. The angles and Ω are computed in double: Ω is a sum of
 // four angles near π/2 minus 2π, which cancels in float long before Ω gets small.
 //
-// Emission (light subpaths) starts uniformly over the area, on either side.
+// A one-sided light sends nothing to a reference point behind its plane: strategy() finds no
+// sample there, so sample_li and pdf_li agree on it.
+//
+// Emission (light subpaths) starts uniformly over the area, on an emitting side.
 #pragma once
 #include <algorithm>
 #include <cmath>
@@ -29,9 +33,9 @@ namespace spt {
 
 struct QuadLight {
     Vec3 o, e1, e2;  ///< corner and edges (orthogonal for solid-angle sampling)
-    Spectrum Le;     ///< radiance, both sides
+    Spectrum Le;     ///< radiance
+    bool two_sided = true;  ///< false: only the front (the side of n) emits
     static constexpr LightType type = LightType::area;
-    static constexpr bool two_sided = true;
 
     // Below: set by finish().
     Vec3 n;                 ///< unit normal, e1 × e2 normalised
@@ -87,11 +91,11 @@ struct QuadLight {
     }
 
     float area() const { return total_area; }
-    /// Radiance leaving the surface at p (normal n) along w: the same from both sides.
-    SampledSpectrum L(const Vec3& /*p*/, const Vec3& /*n*/, const Vec3& /*w*/, const SampledWavelengths& lambda) const {
-        return Le.sample(lambda);
+    /// Radiance leaving the surface at p (normal n) along w.
+    SampledSpectrum L(const Vec3& /*p*/, const Vec3& n_hit, const Vec3& w, const SampledWavelengths& lambda) const {
+        return emits_towards(two_sided, n_hit, w) ? Le.sample(lambda) : SampledSpectrum(0.f);
     }
-    float power() const { return 2.f * kPi * total_area * mean_over_visible(Le); }
+    float power() const { return area_light_power(two_sided, total_area, Le); }
 
     /// The spherical rectangle seen from a reference point, in the frame (ux, uy, ±uz) centred
     /// there: the rectangle spans [x0, x1] × [y0, y1] in the plane z = z0 < 0 (the frame's z
@@ -105,7 +109,7 @@ struct QuadLight {
     enum class Strategy { none, area, solid_angle };
 
     /// How sample_li treats the reference point ctx (and pdf_li with it); fills r when the
-    /// rectangle is sampled by solid angle.
+    /// rectangle is sampled by solid angle. None behind a one-sided light.
     Strategy strategy(const LightSampleContext& ctx, SphericalRect& r) const {
         if (!(total_area > 0.f)) return Strategy::none;
         const double d[3] = {double(o.x) - ctx.p.x, double(o.y) - ctx.p.y, double(o.z) - ctx.p.z};
@@ -113,7 +117,9 @@ struct QuadLight {
         // On the plane: within the point's error bound, or closer than the float rounding of
         // p_light − p along n (below that, area_to_solid_angle's cosine is noise).
         const double tol = dot(abs_n, ctx.p_err) + double(gamma_bound(4)) * (dot(abs_n, abs(ctx.p)) + corner_reach);
-        if (!(std::fabs(z0) > tol)) return Strategy::none;
+        // In front of the plane (the side of n) z0 < 0; a one-sided light needs that.
+        const double reach = two_sided ? std::fabs(z0) : -z0;
+        if (!(reach > tol)) return Strategy::none;
         if (!rectangular) return Strategy::area;
         // Far from the light, area sampling is almost as good and much cheaper (the map needs
         // four arc tangents): solid angle only where the rectangle looks large, by the
@@ -217,10 +223,10 @@ struct QuadLight {
         point_at(u1, u2, lo.p, lo.p_err);
         lo.n = n;
         lo.pdf_pos = 1.f / total_area;
-        return emit_two_sided(lo, Le.sample(lambda), u_side, u3, u4);
+        return emit_from_surface(lo, Le.sample(lambda), two_sided, u_side, u3, u4);
     }
     float pdf_le_pos() const { return 1.f / total_area; }
-    float pdf_le_dir(const Vec3& n_light, const Vec3& w) const { return two_sided_direction_pdf(n_light, w); }
+    float pdf_le_dir(const Vec3& n_light, const Vec3& w) const { return emission_direction_pdf(two_sided, n_light, w); }
 
     /// A point y of the surface by area for a chain of specular bounces that ends on a ball
     /// (centre c, radius R; the rectangle ignores it): uniform, density 1/area.

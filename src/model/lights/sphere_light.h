@@ -19,6 +19,8 @@ struct SphereLight {
     Spectrum Le;  ///< radiance, both sides
     int sphere_index = -1;  ///< the sphere's index in the scene (set by Scene::finalize)
     static constexpr LightType type = LightType::area;
+    /// Both sides emit, always: a closed sphere is seen from outside only, so a one-sided one
+    /// would differ only for points inside it.
     static constexpr bool two_sided = true;
     /// A closed surface: from outside, only its outside can be seen.
     static constexpr bool closed = true;
@@ -29,7 +31,7 @@ struct SphereLight {
     }
 
     float area() const { return 4.f * kPi * sphere.radius * sphere.radius; }
-    float power() const { return 2.f * kPi * area() * mean_over_visible(Le); }
+    float power() const { return area_light_power(two_sided, area(), Le); }
 
     /// Whether the reference point is inside (or on) the sphere, decided on the point pushed
     /// towards the centre past its error bound (pbrt-v4's Sphere::Sample): a point of the
@@ -116,7 +118,7 @@ struct SphereLight {
         LightOrigin o;
         sample_point(u1, u2, o.p, o.p_err, o.n);
         o.pdf_pos = 1.f / area();
-        return emit_two_sided(o, Le.sample(lambda), u_side, u3, u4);
+        return emit_from_surface(o, Le.sample(lambda), two_sided, u_side, u3, u4);
     }
     float pdf_le_pos() const { return 1.f / area(); }
     float pdf_le_dir(const Vec3& n_light, const Vec3& w) const { return two_sided_direction_pdf(n_light, w); }

@@ -3,6 +3,8 @@
 // of the barycentrics), for next-event estimation and emission alike; the area density is
 // converted to solid angle at the reference point. (Spherical-triangle sampling would remove
 // the 1/cos of grazing views; area sampling is what this light states and tests.)
+// A one-sided light (two_sided false) emits from each triangle's front only (normal
+// (p1 − p0) × (p2 − p0)): a sampled point that shows the reference point its back is no sample.
 #pragma once
 #include <algorithm>
 #include <optional>
@@ -18,13 +20,13 @@ struct TriangleMeshLight {
     std::vector<Triangle> triangles;  ///< copies of the scene's triangles of this shape
     std::vector<float> cdf;           ///< cumulative area fractions (last = 1)
     float total_area = 0.f;
-    Spectrum Le;  ///< radiance, both sides
+    Spectrum Le;  ///< radiance
+    bool two_sided = true;  ///< false: only the front (the side of the shape's normal) emits
     static constexpr LightType type = LightType::area;
-    static constexpr bool two_sided = true;
 
-    /// Radiance leaving the surface at p (normal n) along w: the same from both sides.
-    SampledSpectrum L(const Vec3& /*p*/, const Vec3& /*n*/, const Vec3& /*w*/, const SampledWavelengths& lambda) const {
-        return Le.sample(lambda);
+    /// Radiance leaving the surface at p (normal n) along w.
+    SampledSpectrum L(const Vec3& /*p*/, const Vec3& n, const Vec3& w, const SampledWavelengths& lambda) const {
+        return emits_towards(two_sided, n, w) ? Le.sample(lambda) : SampledSpectrum(0.f);
     }
 
     static float triangle_area(const Triangle& t) { return 0.5f * length(cross(t.p1 - t.p0, t.p2 - t.p0)); }
@@ -41,7 +43,7 @@ struct TriangleMeshLight {
         if (!cdf.empty()) cdf.back() = 1.f;
     }
 
-    float power() const { return 2.f * kPi * total_area * mean_over_visible(Le); }
+    float power() const { return area_light_power(two_sided, total_area, Le); }
 
     /// A point uniform over the whole area (u1 picks the triangle and is reused inside it);
     /// `triangle` is the index of the one it is on.
@@ -62,11 +64,14 @@ struct TriangleMeshLight {
     bool sample_li(const LightSampleContext& ctx, const SampledWavelengths& lambda, float u1, float u2,
                    LightSample& ls) const {
         sample_point(u1, u2, ls.p, ls.p_err, ls.n, ls.triangle);
+        if (!emits_towards(two_sided, ls.n, ctx.p - ls.p)) return false;
         ls.pdf = area_to_solid_angle(1.f / total_area, ctx.p, ls.p, ls.n);
         return finish_area_sample(ls, ctx.p, Le.sample(lambda));
     }
 
+    /// Density of the directions sample_li returns: 0 towards the back of a one-sided light.
     float pdf_li(const LightSampleContext& ctx, const Vec3& p_light, const Vec3& n_light) const {
+        if (!emits_towards(two_sided, n_light, ctx.p - p_light)) return 0.f;
         return area_to_solid_angle(1.f / total_area, ctx.p, p_light, n_light);
     }
 
@@ -75,10 +80,10 @@ struct TriangleMeshLight {
         LightOrigin o;
         sample_point(u1, u2, o.p, o.p_err, o.n, o.triangle);
         o.pdf_pos = 1.f / total_area;
-        return emit_two_sided(o, Le.sample(lambda), u_side, u3, u4);
+        return emit_from_surface(o, Le.sample(lambda), two_sided, u_side, u3, u4);
     }
     float pdf_le_pos() const { return 1.f / total_area; }
-    float pdf_le_dir(const Vec3& n_light, const Vec3& w) const { return two_sided_direction_pdf(n_light, w); }
+    float pdf_le_dir(const Vec3& n_light, const Vec3& w) const { return emission_direction_pdf(two_sided, n_light, w); }
 };
 
 }  // namespace spt
