@@ -10,9 +10,9 @@
 // 0.50288 ± 0.00121, black-floor underside 0.23324 ± 0.00098 for 0.23338, point light in SF11
 // 0.9973 ± 0.0041). Factor-2 errors in any density or weight of the environment move the
 // furnace by 9 σ or more; each bug fails at least one test:
-//   - environment_pdf() doubled (MIS density of the environment's direction): furnace
+//   - infinite_pdf() doubled (MIS density of the environment's direction): furnace
 //     0.4232 (z = −63), black floor 0.1960, grazing plane 0.594 for 0.7;
-//   - environment_position_pdf() halved (MIS density of the disk): furnace 0.5152 (z = +12);
+//   - infinite_position_pdf() halved (MIS density of the disk): furnace 0.5152 (z = +12);
 //   - the environment's light subpaths carrying half their throughput: furnace 0.4900 (z = −9);
 //   - the s = 1 connection towards the environment weighted twice: furnace 0.648 (z = +70);
 //   - no `blocked` test (light from below an infinite floor arrives from upstream of the
@@ -173,6 +173,42 @@ TEST(BdptEnvironment, ConvexDiffuseSphereIsItsAlbedo) {
     report(fmt("furnace sphere: %.0f pixels on it, mean %.5f ± %.5f (expected 0.5), max z %.2f", r.on,
                r.sphere.mean, r.sphere.standard_error, r.max_z) +
            fmt("; %.0f off it, max relative deviation from the bare environment %.2g", r.off, r.max_off_rel));
+}
+
+/// Two infinite lights of radiance 0.3 and 0.7 are one of radiance 1: an escaped ray sees
+/// their sum, and each is chosen, sampled and weighted with its own densities. The furnace
+/// sphere is then 0.5 and its surroundings 1 with the path tracer (MIS, and light samples
+/// alone) and bdpt. Taking only one of them would give 0.15 or 0.35.
+TEST(InfiniteLights, TwoAreOneOfTheirSum) {
+    Scene scene;
+    scene.name = "furnace sphere, two skies";
+    scene.camera = {{0, 0, 4}, {0, 0, 0}, {0, 1, 0}, 40.f};
+    scene.spheres.push_back({{0, 0, 0}, 1.f, scene.add_material(diffuse_material(0.5))});
+    scene.lights.emplace_back(EnvironmentLight{constant_spectrum(0.3), {}, 1.f});
+    scene.lights.emplace_back(EnvironmentLight{constant_spectrum(0.7), {}, 1.f});
+    scene.finalize();
+    ASSERT_EQ(scene.infinite_light_indices.size(), 2u);
+    for (int mode = 0; mode < 3; ++mode) {
+        RenderSettings rs = small_settings(20, 20, 64, 41 + mode, 2);
+        if (mode == 1) rs.integrator.light_sampling = LightSampling::light;
+        if (mode == 2) rs.integrator.kind = IntegratorKind::bdpt;
+        const auto film = render_film(scene, rs);
+        double max_z = 0, max_off = 0;  // z against 0.5 on the sphere, 1 off it (σ 0: within 1e-3·kZ)
+        int on = 0, off = 0;
+        for (int y = 0; y < rs.height; ++y)
+            for (int x = 0; x < rs.width; ++x) {
+                const int k = pixel_coverage(scene, rs.width, rs.height, x, y,
+                                             [&](const Ray& ray) { return ray_hits_sphere(ray, {0, 0, 0}, 1.f); });
+                const double v = film->pixel_xyz(x, y).y, se = film->pixel_y_standard_error(x, y);
+                if (k == 1) ++on, max_z = std::max(max_z, se > 0 ? std::fabs(v - 0.5) / se : 1e30);
+                if (k == 0) ++off, max_off = std::max(max_off, se > 0 ? std::fabs(v - 1.0) / se : std::fabs(v - 1.0) * 1e3);
+            }
+        EXPECT_GE(on, 60) << mode;
+        EXPECT_GE(off, 150) << mode;
+        EXPECT_LE(max_z, kZ) << mode;
+        EXPECT_LE(max_off, kZ) << mode;
+        report(fmt("two infinite lights, mode %.0f: %.0f pixels on the sphere, max z %.2f", mode, on, max_z));
+    }
 }
 
 /// The same furnace away from the origin, with the camera far off to one side: the

@@ -191,7 +191,7 @@ SampledWavelengths wavelengths() { return SampledWavelengths::sample(0.37f); }
 double pdf_along(const Scene& scene, const LightSampleContext& ctx, const Vec3& d) {
     const std::optional<Hit> hit = scene.intersect({ctx.p, d, kInfinity});
     if (hit && hit->light != 0) return 0.0;
-    if (!hit && scene.environment_index != 0) return 0.0;
+    if (!hit && light_type(scene.lights[0]) != LightType::infinite) return 0.0;
     return light_pdf_li(scene.lights[0], ctx, d, hit ? &*hit : nullptr);
 }
 

@@ -702,8 +702,11 @@ TEST(LightSampling, EnvironmentDirectionsDiskAndDensities) {
     // header, and `blocked` exactly when the floor crosses the ray upstream of the disk.
     const EnvironmentScene es;
     const spt::LightSampler sampler(es.scene);
-    ASSERT_TRUE(sampler.has_environment());
-    EXPECT_NEAR(sampler.environment_pdf(), es.p_environment / (4.0 * kPiD), 1e-5 * sampler.environment_pdf());
+    ASSERT_EQ(es.scene.infinite_light_indices.size(), 1u);
+    const int env = es.scene.infinite_light_indices[0];
+    const spt::Vec3 any_d(0.f, 0.f, -1.f);
+    EXPECT_NEAR(sampler.infinite_pdf(env, any_d), es.p_environment / (4.0 * kPiD),
+                1e-5 * sampler.infinite_pdf(env, any_d));
     const spt::SampledWavelengths lambda = spt::SampledWavelengths::sample(0.61f);
     Uniform rng(5);
     constexpr int kN = 400000;
@@ -717,7 +720,7 @@ TEST(LightSampling, EnvironmentDirectionsDiskAndDensities) {
         for (float& x : u) x = rng.next_float();
         const std::optional<spt::LightOrigin> o = sampler.sample(lambda, u[0], u[1], u[2], u[3], u[4], u[5]);
         ASSERT_TRUE(o.has_value());
-        if (!o->environment) {
+        if (!o->infinite) {
             ASSERT_TRUE(o->delta_position);
             continue;
         }
@@ -745,8 +748,8 @@ TEST(LightSampling, EnvironmentDirectionsDiskAndDensities) {
         blocked += o->blocked;
         // The disk's density reaches every point downstream inside the cylinder, none upstream.
         const spt::Vec3 inside = o->p + o->w * float(1.7 * es.radius);
-        EXPECT_EQ(sampler.environment_position_pdf(inside, o->w), o->pdf_pos);
-        EXPECT_EQ(sampler.environment_position_pdf(o->p - o->w * float(0.1 * es.radius), o->w), 0.f);
+        EXPECT_EQ(sampler.infinite_position_pdf(env, inside, o->w), o->pdf_pos);
+        EXPECT_EQ(sampler.infinite_position_pdf(env, o->p - o->w * float(0.1 * es.radius), o->w), 0.f);
     }
     const double z = (environment - kN * es.p_environment) / std::sqrt(kN * es.p_environment * (1 - es.p_environment));
     EXPECT_LT(std::fabs(z), 4.0) << environment << " environment samples, expected " << kN * es.p_environment;
@@ -762,8 +765,8 @@ TEST(LightSampling, EnvironmentDirectionsDiskAndDensities) {
     // Points outside the cylinder of the disk are out of reach.
     const spt::Vec3 d(0.f, 0.f, -1.f);
     const spt::Vec3 c(float(es.centre.x), float(es.centre.y), float(es.centre.z));
-    EXPECT_GT(sampler.environment_position_pdf(c + spt::Vec3(float(0.99 * es.radius), 0.f, -5.f), d), 0.f);
-    EXPECT_EQ(sampler.environment_position_pdf(c + spt::Vec3(float(1.01 * es.radius), 0.f, 0.f), d), 0.f);
+    EXPECT_GT(sampler.infinite_position_pdf(env, c + spt::Vec3(float(0.99 * es.radius), 0.f, -5.f), d), 0.f);
+    EXPECT_EQ(sampler.infinite_position_pdf(env, c + spt::Vec3(float(1.01 * es.radius), 0.f, 0.f), d), 0.f);
 }
 
 TEST(LightSampling, NoEnvironmentWithoutBackground) {
@@ -772,8 +775,7 @@ TEST(LightSampling, NoEnvironmentWithoutBackground) {
     es.scene.set_background(exact(spt::SpectrumSource::constant(0.0)));
     es.scene.finalize();
     const spt::LightSampler sampler(es.scene);
-    EXPECT_FALSE(sampler.has_environment());
-    EXPECT_EQ(sampler.environment_pdf(), 0.f);
+    EXPECT_TRUE(es.scene.infinite_light_indices.empty());
     const spt::SampledWavelengths lambda = spt::SampledWavelengths::sample(0.5f);
     Uniform rng(6);
     for (int i = 0; i < 1000; ++i) {
@@ -781,7 +783,7 @@ TEST(LightSampling, NoEnvironmentWithoutBackground) {
                                                                  rng.next_float(), rng.next_float(),
                                                                  rng.next_float(), rng.next_float());
         ASSERT_TRUE(o.has_value());
-        ASSERT_FALSE(o->environment);
+        ASSERT_FALSE(o->infinite);
         ASSERT_NEAR(o->pdf_pos, 1.f, 1e-6f);  // the point light is the only light
     }
 }

@@ -86,7 +86,7 @@ spt::SampledWavelengths wavelengths() { return spt::SampledWavelengths::sample(0
 double pdf_along(const Scene& scene, int k, const LightSampleContext& ctx, const Vec3& d) {
     const std::optional<spt::Hit> hit = scene.intersect({ctx.p, d, spt::kInfinity});
     if (hit && hit->light != k) return 0.0;
-    if (!hit && k != scene.environment_index) return 0.0;
+    if (!hit && spt::light_type(scene.lights[k]) != spt::LightType::infinite) return 0.0;
     return spt::light_pdf_li(scene.lights[k], ctx, d, hit ? &*hit : nullptr);
 }
 
@@ -847,19 +847,19 @@ TEST(PlaneLightPastPlanes, LanesGiveTheOneTryAtATimeBits) {
 TEST(EnvironmentLight, CosineAboutTheShadingNormal) {
     const Scene scene = environment_scene(1.0);
     const Vec3 n = spt::normalize(Vec3(0.2f, 0.9f, -0.3f));
-    expect_directions_follow_pdf(scene, scene.environment_index, context({0, 0, 0}, n), n, 0.0, "cosine");
+    expect_directions_follow_pdf(scene, scene.infinite_light_indices.at(0), context({0, 0, 0}, n), n, 0.0, "cosine");
 }
 
 TEST(EnvironmentLight, UniformWhenBothSidesMatter) {
     const Scene scene = environment_scene(1.0);
-    expect_directions_follow_pdf(scene, scene.environment_index, context({0, 0, 0}, {0, 1, 0}, true), {0, 1, 0}, -1.0,
+    expect_directions_follow_pdf(scene, scene.infinite_light_indices.at(0), context({0, 0, 0}, {0, 1, 0}, true), {0, 1, 0}, -1.0,
                                  "uniform");
 }
 
 TEST(EnvironmentLight, IrradianceIsPiL) {
     const double le = 0.7;
     const Scene scene = environment_scene(le);
-    const Estimate e = irradiance(scene, scene.environment_index, context({0, 0, 0}, {0, 0, 1}), 20000, 10);
+    const Estimate e = irradiance(scene, scene.infinite_light_indices.at(0), context({0, 0, 0}, {0, 0, 1}), 20000, 10);
     // Cosine sampling of a constant environment is exact: every sample is π·L.
     EXPECT_NEAR(e.mean, kPi * le, 1e-5);
     EXPECT_LT(e.stderr_, 1e-5);
@@ -908,7 +908,7 @@ TEST(LightList, RemovingTheEnvironmentKeepsEveryShapesEmitter) {
     scene.cylinders.push_back(c);
     scene.set_background(constant(0.0));
     ASSERT_NO_THROW(scene.finalize());
-    EXPECT_EQ(scene.environment(), nullptr);
+    EXPECT_TRUE(scene.infinite_light_indices.empty());
     ASSERT_EQ(scene.lights.size(), 3u);
     EXPECT_TRUE(std::holds_alternative<spt::SphereLight>(scene.lights[scene.spheres[0].light]));
     EXPECT_TRUE(std::holds_alternative<spt::QuadricLight>(scene.lights[scene.disks[0].light]));

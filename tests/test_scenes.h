@@ -109,7 +109,10 @@ inline Scene load_hard_case(const std::string& name) {
 /// The scene without shapes and lights: its pixels see the bare environment (radiance =
 /// background).
 inline Scene environment_only(Scene scene) {
-    const Spectrum background = scene.environment() ? scene.environment()->Le : Spectrum();
+    const Spectrum background =
+        scene.infinite_light_indices.empty()
+            ? Spectrum()
+            : std::get<EnvironmentLight>(scene.lights[static_cast<std::size_t>(scene.infinite_light_indices[0])]).Le;
     scene.spheres.clear();
     scene.planes.clear();
     scene.triangles.clear();

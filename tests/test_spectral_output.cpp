@@ -198,7 +198,7 @@ Scene blackbody_sky() {
 // wrong), a missing 1/Δ or 1/K, a shifted band index.
 TEST(SpectralBands, WideRenderEstimatesTheBandMeansOfAKnownSpectrum) {
     const Scene scene = blackbody_sky();
-    const Spectrum& sky = scene.environment()->Le;
+    const Spectrum& sky = std::get<EnvironmentLight>(scene.lights.at(static_cast<std::size_t>(scene.infinite_light_indices.at(0)))).Le;
     RenderSettings rs = small_settings(8, 8, 256);
     rs.wide_wavelengths = WideWavelengthSampling::covering(300.f, 1100.f);
     const SpectralBands bands{300, 1100, 16};

@@ -21,7 +21,7 @@ Vec3 direction(const Vertex& from, const Vertex& to) {
     return normalize(to.p() - from.p());
 }
 
-/// Solid-angle density at `from` turned into area density at `to`. The environment is
+/// Solid-angle density at `from` turned into area density at `to`. An infinite light is
 /// measured by direction: towards it the solid-angle density stays as it is, and from it the
 /// density is planar (its disk, light_sampling.h), turned into area by the cosine at `to` only.
 float convert_density(float pdf, const Vertex& from, const Vertex& to) {
@@ -149,13 +149,13 @@ private:
     bool m_media;  ///< the scene has participating media (bdpt_media.h)
     std::vector<Vertex>& m_light;   ///< light subpath: the origin, then surface vertices
     std::vector<Vertex>& m_camera;  ///< camera subpath: the pinhole, surface vertices, and the
-                                    ///< environment when the last ray escaped
+                                    ///< infinite lights' vertex when the last ray escaped
     SampledSpectrum m_L_full{0.f}, m_L_hero{0.f};  ///< contributions, by whether they kept the companions
     SampledWavelengths m_hero_only;                ///< m_lambda after terminate_secondary()
 };
 
 /// Extends `path` from its last vertex along `ray`. pdf_dir is the density of the ray's
-/// direction in solid angle, or planar (the disk) when the path starts at the environment.
+/// direction in solid angle, or planar (the disk) when the path starts at an infinite light.
 void Bdpt::random_walk(Ray ray, SampledSpectrum beta, float pdf_dir, int max_vertices, Transport mode,
                        SampledWavelengths& lambda, std::vector<Vertex>& path, int medium) {
     const IntegratorSettings& settings = m_ctx.settings;
@@ -193,17 +193,18 @@ void Bdpt::random_walk(Ray ray, SampledSpectrum beta, float pdf_dir, int max_ver
             hit = m_scene.intersect(ray, m_time);
         }
         if (!hit) {
-            // A camera path that escapes ends on the environment, a light vertex at infinity.
+            // A camera path that escapes ends on the infinite lights, a light vertex at
+            // infinity (connect() takes each light in turn: Vertex::hit.light).
             if (mode == Transport::radiance && m_scene.effects.background) {
-                Vertex env;
-                env.type = VertexType::light;
-                env.infinite = true;
-                env.dir = ray.d;
-                env.beta = beta;
-                env.terminated = lambda.secondary_terminated();
-                env.pdf_fwd = pdf_fwd * edge_T;  // solid angle (convert_density keeps it)
-                env.edge_T = edge_T;
-                path.push_back(env);
+                Vertex far;
+                far.type = VertexType::light;
+                far.infinite = true;
+                far.dir = ray.d;
+                far.beta = beta;
+                far.terminated = lambda.secondary_terminated();
+                far.pdf_fwd = pdf_fwd * edge_T;  // solid angle (convert_density keeps it)
+                far.edge_T = edge_T;
+                path.push_back(far);
             }
             break;
         }
@@ -283,7 +284,8 @@ SampledSpectrum Bdpt::f_cos(const Vertex& v, const Vec3& wi, const SampledWavele
 
 float Bdpt::light_direction_pdf(const Vertex& light, const Vertex& next) const {
     if (light.infinite)  // the disk point on the ray that reaches `next`
-        return convert_density(m_ctx.lights.environment_position_pdf(next.p(), -light.dir), light, next);
+        return convert_density(m_ctx.lights.infinite_position_pdf(light.hit.light, next.p(), -light.dir), light,
+                               next);
     const Vec3 w = normalize(next.p() - light.p());
     const Light* l = light_of(m_scene, light);
     // An emitter that starts no subpath (the infinite plane) still answers as a two-sided
@@ -309,8 +311,8 @@ float Bdpt::pdf(const Vertex& v, const Vertex* prev, const Vertex& next) const {
 
 /// Balance heuristic over all (s', t') with s' + t' = s + t, by walking the path with the
 /// ratios of reverse to forward densities (pbrt-v3 MISWeight). Zero densities of delta
-/// vertices are mapped to 1 and those strategies skipped. A camera vertex next to the
-/// environment that its disk cannot reach (environment_position_pdf 0) is a true zero: no
+/// vertices are mapped to 1 and those strategies skipped. A camera vertex next to an
+/// infinite light that its disk cannot reach (infinite_position_pdf 0) is a true zero: no
 /// strategy whose light subpath includes it exists, and the walk stops before it.
 float Bdpt::mis_weight(int s, int t, float t_conn) {
     const IntegratorSettings& only = m_ctx.settings;
@@ -333,7 +335,7 @@ float Bdpt::mis_weight(int s, int t, float t_conn) {
         if (qs_minus) qs_minus->pdf_rev = pdf(*qs, pt, *qs_minus) * qs->edge_T;
         qs->delta = false;
     } else {
-        pt->pdf_rev = pt->infinite ? m_ctx.lights.environment_pdf() : m_ctx.lights.origin_pdf(pt->hit);
+        pt->pdf_rev = pt->infinite ? m_ctx.lights.infinite_pdf(pt->hit.light, -pt->dir) : m_ctx.lights.origin_pdf(pt->hit);
         if (pt_minus) pt_minus->pdf_rev = light_direction_pdf(*pt, *pt_minus) * pt->edge_T;
     }
     pt->delta = false;
@@ -464,10 +466,11 @@ void Bdpt::trace_light() {
     if (!o) return;
     Vertex v;
     v.type = VertexType::light;
-    if (o->environment) {
+    if (o->infinite) {
         // The origin is the direction (pdf_dir, choice included); the disk point only
         // starts the walk, its planar density pdf_pos going to the first hit (pbrt-v3).
         v.infinite = true;
+        v.hit.light = o->light;
         v.dir = -o->w;
         v.beta = o->Le / o->pdf_dir;
         v.pdf_fwd = o->pdf_dir;
@@ -569,12 +572,18 @@ SampledSpectrum Bdpt::connect() {
             const Vertex& pt = m_camera[t - 1];
             bool terminated = pt.terminated || (s > 0 && m_light[s - 1].terminated);
             if (pt.infinite) {
-                // The camera path escaped: only s = 0 ends on the environment. Weight 1 when
-                // the environment is not a light of the sampler (no power in 380–780 nm).
+                // The camera path escaped: only s = 0 ends on the infinite lights, each with its
+                // own densities (the vertex names the light in turn). Weight 1 for a light the
+                // sampler never chooses (no power in 380–780 nm).
                 if (s > 0) continue;
-                const SampledSpectrum c = pt.beta * m_scene.environment()->Le.sample(m_lambda);
-                if (c.is_zero()) continue;
-                accumulate(c * (m_ctx.lights.has_environment() ? mis_weight(0, t) : 1.f), terminated);
+                for (int light : m_scene.infinite_light_indices) {
+                    const SampledSpectrum c =
+                        pt.beta * light_arriving(m_scene.lights[static_cast<std::size_t>(light)], pt.dir, m_lambda);
+                    if (c.is_zero()) continue;
+                    m_camera[t - 1].hit.light = light;
+                    accumulate(c * (m_ctx.lights.infinite_pdf(light, -pt.dir) > 0.f ? mis_weight(0, t) : 1.f),
+                               terminated);
+                }
                 continue;
             }
             if (s == 0) {
@@ -595,8 +604,8 @@ SampledSpectrum Bdpt::connect() {
                 terminated |= tr.chromatic;
             }
             if (qs.infinite) {
-                // s = 1 on the environment: towards the light subpath's direction (uniform over
-                // the sphere, density environment_pdf), unoccluded to infinity.
+                // s = 1 on an infinite light: towards the light subpath's direction (density
+                // infinite_pdf), unoccluded to infinity.
                 SampledSpectrum c =
                     qs.beta * pt.beta * tr.T * f_cos(pt, qs.dir, lambda_for(terminated), Transport::radiance);
                 if (c.is_zero()) continue;

@@ -11,11 +11,11 @@
 // t = 1 (connect a light vertex to the pinhole, or to a lens point it samples for a thin
 // lens: a splat on another pixel) and s, t ≥ 2.
 // Emitting infinite planes cannot be sampled: they are reached by s = 0 only, with MIS weight
-// 1 (see light_sampling.h). The constant environment is a light like the others, as a vertex
-// at infinity (pbrt's infinite lights): a camera path that escapes ends on it (s = 0), s = 1
-// connects towards the direction its light subpath sampled, and its subpaths start on a disk
-// (light_sampling.h). Its densities are in solid angle at the vertex itself and planar (the
-// disk's) for the next vertex, with no 1/r² conversion.
+// 1 (see light_sampling.h). An infinite light is a light like the others, as a vertex at
+// infinity (pbrt's infinite lights): a camera path that escapes ends on each (s = 0, each
+// with its own weight), s = 1 connects towards the direction its light subpath sampled, and
+// its subpaths start on a disk (light_sampling.h). Its densities are in solid angle at the
+// vertex itself and planar (the disk's) for the next vertex, with no 1/r² conversion.
 //
 // Film estimator: pixel = Σ(camera-side contributions)/count + Σ(splats)/M, M = light paths
 // per pixel (Film::add_light_paths); the camera importance We = 1/(A·cos⁴θ) of the whole

@@ -1,5 +1,5 @@
 // A vertex of a bidirectional subpath (bdpt.h): the camera, a light origin, a surface hit, a
-// scattering point in a medium or the environment at infinity, with its throughput and its area densities in both directions.
+// scattering point in a medium or an infinite light's vertex at infinity, with its throughput and its area densities in both directions.
 // Shared by the connection code (bdpt.cpp) and vertex merging, which keeps the light
 // subpaths of a whole pass (vertex_merging.h).
 #pragma once
@@ -21,8 +21,9 @@ struct BdptVertex {
     bool delta = false;          ///< a specular lobe was sampled here
     bool delta_light = false;    ///< point light origin (delta position)
     bool terminated = false;     ///< a dispersive refraction happened before this vertex
-    /// The environment (a light vertex at infinity, measured by direction): `dir` is the unit
-    /// direction from the scene towards it, and hit.p is not used.
+    /// An infinite light (a light vertex at infinity, measured by direction): `dir` is the
+    /// unit direction from the scene towards it, hit.light the light (for an escaped camera
+    /// path, set by connect() for each infinite light in turn), and hit.p is not used.
     bool infinite = false;
     Vec3 dir;
     /// Vertex merging: the other strategies' densities summed along the subpath up to this

@@ -29,7 +29,7 @@
 //   the grid misses near a fold keeps weight 1 on the BSDF side, so the sum stays exact.
 //   Paths that this strategy cannot produce keep the light sampler's weights: emission after other
 //   delta chains (weight 1), lights it does not sample (mesh, disk and plane lights, the
-//   environment, textured emitters, point lights), dispersive or rough glass, reflections off
+//   infinite lights, textured emitters, point lights), dispersive or rough glass, reflections off
 //   the sphere (D-R-L) and internal reflections (TRT...). Media scenes: not used.
 //
 //   It runs only with --light-sampling mis (the default) and only where the BSDF sampling of

@@ -102,13 +102,13 @@ template <bool kTextured, bool kCaustic, class Sampler>
     EmissionMis mis;
     [[maybe_unused]] std::conditional_t<kCaustic, SphereChainNee, NoScratch> chains;
     for (int depth = 0;; ++depth) {
-        // ---- Find the next vertex; escaping rays see the environment ----
+        // ---- Find the next vertex; escaping rays see the infinite lights ----
         ++stats.rays;
         const std::optional<Hit> hit = scene.intersect(ray, time);
         if (!hit) {
-            if (scene.environment_index >= 0) {
-                const float w = mis.weight(scene, choices, scene.environment_index, ray.d, nullptr);
-                L += beta * light_arriving(scene.lights[scene.environment_index], ray.d, lambda) * w;
+            for (int i : scene.infinite_light_indices) {
+                const float w = mis.weight(scene, choices, i, ray.d, nullptr);
+                L += beta * light_arriving(scene.lights[i], ray.d, lambda) * w;
             }
             break;
         }

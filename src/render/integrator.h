@@ -1,6 +1,6 @@
 // Unidirectional path tracing (Kajiya) with Russian roulette and next-event estimation: every
 // point light at each vertex with a non-delta lobe, and one other light (emitting shapes,
-// emitting planes, the environment) chosen by power, combined with BSDF sampling by multiple
+// emitting planes, infinite lights) chosen by power, combined with BSDF sampling by multiple
 // importance sampling (power heuristic).
 #pragma once
 #include <cstdint>

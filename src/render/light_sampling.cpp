@@ -9,7 +9,6 @@ LightSampler::LightSampler(const Scene& scene)
     for (std::size_t i = 0; i < scene.lights.size(); ++i)
         if (light_can_start_subpath(scene.lights[i])) power[i] = light_power(scene.lights[i]);
     m_choice.build(power);
-    m_environment_choice = m_choice.probability(scene.environment_index);
 }
 
 std::optional<LightOrigin> LightSampler::sample(const SampledWavelengths& lambda, float u_light, float u1,
@@ -21,10 +20,10 @@ std::optional<LightOrigin> LightSampler::sample(const SampledWavelengths& lambda
     std::optional<LightOrigin> o = light_sample_le(light, lambda, u1, u2, u_side, u3, u4, time);
     if (!o) return o;
     o->light = index;
-    if (o->environment) {
+    if (o->infinite) {
         // Measured by direction: the choice goes with the direction's density.
         o->pdf_dir *= choice;
-        // Upstream of the disk lies only what is unbounded: a plane there hides the environment.
+        // Upstream of the disk lies only what is unbounded: a plane there hides the light.
         const Ray upstream{o->p, -o->w, kInfinity};
         for (const Plane& plane : m_scene.planes) o->blocked |= plane.intersect_t(upstream) < kInfinity;
         return o;
@@ -35,16 +34,15 @@ std::optional<LightOrigin> LightSampler::sample(const SampledWavelengths& lambda
     return o;
 }
 
-float LightSampler::environment_pdf() const {
-    if (!has_environment()) return 0.f;
-    const Light& env = m_scene.lights[static_cast<std::size_t>(m_scene.environment_index)];
-    return m_environment_choice * light_pdf_le_dir(env, Vec3(), Vec3());
+float LightSampler::infinite_pdf(int light, const Vec3& d) const {
+    const float choice = m_choice.probability(light);
+    if (choice == 0.f) return 0.f;
+    return choice * light_pdf_le_dir(m_scene.lights[static_cast<std::size_t>(light)], Vec3(), d);
 }
 
-float LightSampler::environment_position_pdf(const Vec3& p, const Vec3& d) const {
-    if (!has_environment()) return 0.f;
-    return visit_light_of<kInfiniteLights>(m_scene.lights[static_cast<std::size_t>(m_scene.environment_index)],
-                                           [&](const auto& env) { return env.pdf_le_pos(p, d); });
+float LightSampler::infinite_position_pdf(int light, const Vec3& p, const Vec3& d) const {
+    return visit_light_of<kInfiniteLights>(m_scene.lights[static_cast<std::size_t>(light)],
+                                           [&](const auto& l) { return l.pdf_le_pos(p, d); });
 }
 
 float LightSampler::origin_pdf(const Hit& hit) const {

@@ -253,9 +253,9 @@ SegmentTransmittance segment_transmittance(const Scene& scene, Ray ray, int medi
             r_l *= (uniform ? SampledSpectrum(1.f) : T_end) / T_end[0];
         }
 
-        // ---- Escaped: the environment ----
+        // ---- Escaped: the infinite lights ----
         if (!hit) {
-            if (scene.environment()) add_emission(scene.environment_index, scene.environment()->Le.sample(lambda), nullptr);
+            for (int i : scene.infinite_light_indices) add_emission(i, light_arriving(scene.lights[i], ray.d, lambda), nullptr);
             break;
         }
         // ---- A shape without a surface: straight on, into the medium behind it ----

@@ -174,7 +174,7 @@ void Wavefront::generate(int begin, int end) {
     }
 }
 
-// ---- intersect: "find the next vertex; escaping rays see the environment" ----
+// ---- intersect: "find the next vertex; escaping rays see the infinite lights" ----
 void Wavefront::intersect(int begin, int end, ChunkQueues& out, PathStats& stats) {
     out.paths.clear();
     const LightDistribution& choices =
@@ -186,9 +186,11 @@ void Wavefront::intersect(int begin, int end, ChunkQueues& out, PathStats& stats
         if (const std::optional<Hit> hit = m_scene.intersect(path.ray, path.time)) {
             path.hit = *hit;
             out.paths.push_back(i);
-        } else if (m_scene.environment_index >= 0) {
-            const float w = path.mis.weight(m_scene, choices, m_scene.environment_index, path.ray.d, nullptr);
-            path.L += path.beta * light_arriving(m_scene.lights[m_scene.environment_index], path.ray.d, path.lambda) * w;
+        } else {
+            for (int l : m_scene.infinite_light_indices) {
+                const float w = path.mis.weight(m_scene, choices, l, path.ray.d, nullptr);
+                path.L += path.beta * light_arriving(m_scene.lights[l], path.ray.d, path.lambda) * w;
+            }
         }
     }
 }

@@ -1,7 +1,7 @@
 // The wavefront schedule (Laine, Karras and Aila 2013, "Megakernels considered harmful", on
 // the CPU): a pass's paths go through the renderer in batches, and each batch through stages
 // that each consume their own queue of paths, every worker thread taking chunks of it:
-//   generate (camera rays) → intersect (closest hit; escaped paths take the environment)
+//   generate (camera rays) → intersect (closest hit; escaped paths take the infinite lights)
 //   → shade (emission, light samples and their shadow rays, BSDF sample, roulette)
 //   → shadow (shadow rays; unoccluded light samples join the path's radiance)
 //   → intersect again with the surviving paths … → accumulate (film, in sample order).

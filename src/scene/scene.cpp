@@ -387,7 +387,7 @@ void Scene::analyse_effects() {
     // Which effects are called for: only materials that some shape uses count.
     effects = Effects{};
     effects.point_lights = !point_light_indices.empty() || !spot_light_indices.empty();
-    effects.background = environment_index >= 0;
+    effects.background = !infinite_light_indices.empty();
     effects.depth_of_field = camera.aperture.radius > 0.f;
     // Motion only blurs when the shutter stays open while something moves.
     bool moves = !moving_shapes.empty();
@@ -395,8 +395,7 @@ void Scene::analyse_effects() {
         if (const PointLight* p = std::get_if<PointLight>(&l)) moves |= !p->motion.is_static();
     effects.motion_blur = moves && camera.shutter_close > camera.shutter_open;
     for (const Light& l : lights)
-        effects.emissive_surfaces |=
-            !is_delta_light(l) && !std::holds_alternative<EnvironmentLight>(l);
+        effects.emissive_surfaces |= light_type(l) == LightType::area;
     auto material_effects = [&](const auto& shapes) {
         for (const auto& shape : shapes) {
             const Material& m = materials[shape.material];
@@ -553,7 +552,7 @@ void Scene::finalize_lights() {
 
     point_light_indices.clear();
     spot_light_indices.clear();
-    environment_index = -1;
+    infinite_light_indices.clear();
     std::vector<float> area_power(lights.size(), 0.f);
     for (std::size_t i = 0; i < lights.size(); ++i) {
         Light& light = lights[i];
@@ -574,12 +573,15 @@ void Scene::finalize_lights() {
             spot_light_indices.push_back(static_cast<int>(i));
             continue;
         }
-        if (EnvironmentLight* e = std::get_if<EnvironmentLight>(&light)) {
-            require(environment_index < 0, "a scene has at most one environment");
-            check_spectrum(e->Le, "background radiance", 0.f, 1e30f);
-            e->center = bounds_center;
-            e->radius = bounds_radius;
-            environment_index = static_cast<int>(i);
+        if (light_type(light) == LightType::infinite) {
+            if (const EnvironmentLight* e = std::get_if<EnvironmentLight>(&light))
+                check_spectrum(e->Le, "background radiance", 0.f, 1e30f);
+            // Light subpaths from infinity start on a disk facing the scene's bounding sphere.
+            visit_light_of<kInfiniteLights>(light, [&](auto& l) {
+                l.center = bounds_center;
+                l.radius = bounds_radius;
+            });
+            infinite_light_indices.push_back(static_cast<int>(i));
         } else {
             require(attached[i] != 0, "an emitter is attached to no shape");
             std::visit([&](auto& l) {

@@ -117,13 +117,13 @@ struct Scene : ShapeArrays {
     /// Derived by finalize(): the point lights (each sampled at every vertex: no random
     /// numbers, no MIS), the other lights chosen by power for next-event estimation (without
     /// and with the emitting infinite planes, see IntegratorSettings::sample_planes), the
-    /// environment's index (−1: black) and the bounding sphere of the finite shapes, the
-    /// camera and the point lights.
+    /// infinite lights (what a ray that escapes sees: none, one or several) and the bounding
+    /// sphere of the finite shapes, the camera and the point lights.
     std::vector<int> point_light_indices;
     std::vector<int> spot_light_indices;  ///< sampled like the point lights
     LightDistribution area_light_choice;
     LightDistribution area_light_choice_with_planes;
-    int environment_index = -1;
+    std::vector<int> infinite_light_indices;
     /// Next-event strategies beyond the light sampler, prepared by finalize() (each holds its
     /// own tables): specular chains through and off spheres (effects.caustic_spheres).
     SphereChains sphere_chains;
@@ -142,10 +142,6 @@ struct Scene : ShapeArrays {
     /// Adds the emitter of a parallelogram o, o + e1, o + e1 + e2, o + e2 (a quad's two
     /// triangles store its index): sampled by solid angle when it is a rectangle.
     int add_quad_emitter(const Vec3& o, const Vec3& e1, const Vec3& e2, Spectrum radiance);
-    /// The environment light, or nullptr when escaping rays see black.
-    const EnvironmentLight* environment() const {
-        return environment_index >= 0 ? &std::get<EnvironmentLight>(lights[environment_index]) : nullptr;
-    }
     /// Radiance leaving the emitter of `hit`'s shape towards wo (zero if it has none, or
     /// shows wo its back): the light's L. kTextured (scenes with textures): an emitter with
     /// an emission texture gives the texture's value at the hit's (u, v) instead.

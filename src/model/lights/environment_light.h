@@ -60,7 +60,7 @@ struct EnvironmentLight {
     std::optional<LightOrigin> sample_le(const SampledWavelengths& lambda, float u1, float u2, float /*u_side*/,
                                          float u3, float u4, float /*time*/) const {
         LightOrigin o;
-        o.environment = true;
+        o.infinite = true;
         o.w = sample_uniform_sphere(u1, u2);
         const Frame frame(o.w);
         const float r = radius * std::sqrt(u3), phi = 2.f * kPi * u4;

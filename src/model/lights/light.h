@@ -44,8 +44,10 @@
 ///                                 that ends on a ball of centre c and radius R (caustic
 ///                                 next-event estimation, render/caustic_nee.h): lights
 ///                                 without it are not sampled by that strategy.
-// Infinite lights have:
-///  arriving(d, λ)                 radiance arriving along an escaped ray of direction d.
+// Infinite lights (none, one or several in a scene: an escaped ray sees their sum) have:
+///  arriving(d, λ)                 radiance arriving along an escaped ray of direction d;
+///  center, radius                 the scene's bounding sphere (Scene::finalize sets them),
+///                                 whose disks light subpaths from infinity start on.
 // Delta-position lights have:
 ///  position_at(time)              where the light is at shutter time `time`;
 ///  I_max(λ), falloff(w)           the radiant intensity along unit w is I_max(λ)·falloff(w),
@@ -58,8 +60,9 @@
 ///  pdf_le_dir(n, w)               the solid-angle density of sample_le's direction w from
 ///                                 a point of normal n;
 ///  pdf_le_pos()                   area lights: the area density of sample_le's point;
-///                                 the environment: pdf_le_pos(p, d), the planar density of
-///                                 the disk point whose ray along d reaches p.
+///                                 infinite lights: pdf_le_pos(p, d), the planar density of
+///                                 the disk point whose ray along d reaches p (their origins
+///                                 are marked LightOrigin::infinite).
 //
 // tests/test_light_contract.cpp checks every type against this contract.
 #pragma once
@@ -114,9 +117,10 @@ constexpr bool any_light_from() {
 /// f(the light as its type), for a light whose type is one of kTypes (the caller knows: the
 /// others are not tested for). A chain of index tests, inlined (as bsdf.h's visit_bsdf):
 /// std::visit compiles to an out-of-line call through a table; a set with one member costs
-/// no test at all.
-template <unsigned kTypes = kAnyLight, std::size_t I = 0, class F>
-[[gnu::always_inline]] inline decltype(auto) visit_light_of(const Light& light, F&& f) {
+/// no test at all. `light` may be const or not (then f may change it).
+template <unsigned kTypes = kAnyLight, std::size_t I = 0, class LightRef, class F>
+    requires std::is_same_v<std::remove_const_t<LightRef>, Light>
+[[gnu::always_inline]] inline decltype(auto) visit_light_of(LightRef& light, F&& f) {
     if constexpr (!detail::light_in<kTypes, I>()) {
         return visit_light_of<kTypes, I + 1>(light, std::forward<F>(f));
     } else {

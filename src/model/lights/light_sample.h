@@ -27,7 +27,7 @@ struct LightSample {
     SampledSpectrum L;   ///< radiance arriving along −wi (for a point light: I/r²)
     float pdf = 0.f;     ///< solid-angle density of wi (1 for a delta light)
     Vec3 p, p_err, n;    ///< the point on the light, its error bound and normal (zero: none)
-    bool infinite = false;  ///< the environment: nothing to reach, only the way out to check
+    bool infinite = false;  ///< an infinite light: nothing to reach, only the way out to check
     /// An infinite plane: the shadow ray leaves along wi and must be clear for this distance
     /// (p is not needed); 0 for the other lights.
     float plane_distance = 0.f;
@@ -50,17 +50,17 @@ struct LightSample {
 /// emitted quantity and the densities that produced them.
 struct LightOrigin {
     Vec3 p, p_err;
-    Vec3 n;              ///< surface normal (zero for point lights and the environment)
+    Vec3 n;              ///< surface normal (zero for point and infinite lights)
     Vec3 w;              ///< emission direction (unit)
-    SampledSpectrum Le;  ///< radiance (area, environment) or intensity (point) along w
-    /// Area density of the point, light choice included (1·choice if delta). Environment:
-    /// the planar density 1/(πR²) of the disk point, without the choice.
+    SampledSpectrum Le;  ///< radiance (area, infinite) or intensity (point) along w
+    /// Area density of the point, light choice included (1·choice if delta). Infinite
+    /// lights: the planar density of the disk point, without the choice.
     float pdf_pos = 0;
-    /// Solid-angle density of w. Environment: 1/(4π) times the choice probability.
+    /// Solid-angle density of w. Infinite lights: with the choice probability.
     float pdf_dir = 0;
     bool delta_position = false;
-    bool environment = false;  ///< the constant environment: p is on the disk, w the direction
-    bool blocked = false;      ///< environment: an infinite plane cuts the ray upstream of p
+    bool infinite = false;  ///< an infinite light: p is on its disk, w the direction it arrives in
+    bool blocked = false;   ///< infinite: an infinite plane cuts the ray upstream of p
     int light = -1;            ///< index in Scene::lights
     std::uint32_t triangle = 0;  ///< as LightSample::triangle
 };
