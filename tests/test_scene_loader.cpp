@@ -128,7 +128,7 @@ TEST(SceneLoader, ErrorsNameFileLineColumnAndSuggest) {
     // An unknown key beside every key the shape needs: found after the shape is built, with the
     // keys its create function read or looked for.
     EXPECT_EQ(error_of(scene_json("\"m\": {\"kd\": 0.5}", "{\"type\": \"sphere\", \"center\": [0,0,0], \"radius\": 1, \"radiuss\": 1, \"material\": \"m\"}")),
-              "s.json:3:63: unknown key \"radiuss\" in sphere (shape 0). Did you mean \"radius\"? Expected one of: type, motion, center, radius, material, emission, interior, exterior");
+              "s.json:3:63: unknown key \"radiuss\" in sphere (shape 0). Did you mean \"radius\"? Expected one of: type, motion, center, radius, material, emission, two_sided, interior, exterior");
     EXPECT_NE(error_of(scene_json("\"m\": {\"kd\": 0.5}", "{\"type\": \"sphere\", \"center\": [0,0,0], \"radius\": -1, \"material\": \"m\"}"))
                   .find("s.json:3:60: sphere (shape 0) radius is -1; expected a number in (0, 1e+15]"), std::string::npos);
     EXPECT_NE(error_of(scene_json("\"m\": {\"kd\": 0.7, \"ks\": 0.4}", sphere)).find("kd + ks + kt = 1.1"), std::string::npos);
