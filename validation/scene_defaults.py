@@ -23,16 +23,7 @@ import numpy as np
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(ROOT, "validation"))
 from gallery import list_scenes  # noqa: E402
-
-
-def read_pfm(path):
-    with open(path, "rb") as f:
-        data = f.read()
-    parts = data.split(b"\n", 3)
-    w, h = map(int, parts[1].split())
-    scale = float(parts[2])
-    img = np.frombuffer(parts[3], dtype="<f4" if scale < 0 else ">f4").reshape(h, w, 3)
-    return img[::-1].astype(np.float64)
+from pfm import read_pfm  # noqa: E402
 
 
 def render(program, scene, width, spp, seed, out, threads):
