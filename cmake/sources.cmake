@@ -32,7 +32,6 @@ set(SPT_CORE_SOURCES
     src/io/png_decoder.cpp
     src/io/ppm_decoder.cpp
     src/io/image_writer.cpp
-    src/io/json.cpp
     src/io/pfm_writer.cpp
     src/io/ply_reader.cpp
     src/io/png_writer.cpp

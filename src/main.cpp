@@ -29,7 +29,7 @@
 #include "render/checkpoint.h"
 #include "render/renderer.h"
 #include "render/wavefront.h"
-#include "io/json.h"
+#include "io/located_error.h"
 #include "scene/param_checker.h"
 #include "scene/scene_loader.h"
 #include "spectral/rgb_to_spectrum.h"

@@ -12,7 +12,7 @@
 
 #include <complex>
 
-#include "io/json.h"
+#include "io/located_error.h"
 #include "model/bsdfs/bsdf.h"
 #include "scene/scene_loader.h"
 #include "spectral/metal_catalog.h"

@@ -6,7 +6,7 @@
 #include <cstring>
 #include <string>
 
-#include "io/json.h"
+#include "io/located_error.h"
 #include "io/ply_reader.h"
 
 namespace spt {

@@ -92,7 +92,7 @@ TEST(SceneDescription, EachPositionNamesItsOwnFile) {
     EXPECT_EQ(b, 1u);
     EXPECT_EQ(d.add_file("a.json"), 0u);  // a file already in the table keeps its index
     ParamValue shapes = *d.root.find("shapes");
-    shapes.push(param_value_from_json(parse_json(bad_radius, "b.json"), b));
+    shapes.push(read_json_value(bad_radius, "b.json", b));
     d.root.set("shapes", shapes);
     try {
         build_scene(d, SpectralResolution{}, kNoFiles);
@@ -113,7 +113,7 @@ TEST(SceneDescription, EachPositionNamesItsOwnFile) {
     }
     // And a second-file value in the middle of a first-file entity: the value's file.
     SceneDescription mixed = read_json_scene(scene, "a.json", "mixed");
-    const ParamValue second = param_value_from_json(parse_json(bad_center, "b.json"), mixed.add_file("b.json"));
+    const ParamValue second = read_json_value(bad_center, "b.json", mixed.add_file("b.json"));
     ParamValue shape = mixed.root.find("shapes")->items().at(0);
     shape.set("center", *second.find("center"));
     mixed.root.set("shapes", ParamValue::list({shape}));
@@ -181,7 +181,7 @@ TEST(MaterialTypes, EveryRowOfTheTableMakesItsOwnBsdf) {
     for (const MaterialType& t : material_types()) {
         ASSERT_TRUE(kMinimalMaterial.count(t.name)) << t.name;
         ASSERT_EQ(find_material_type(t.name), &t);
-        ParamValue def = param_value_from_json(parse_json(kMinimalMaterial.at(t.name), "m.json"));
+        ParamValue def = read_json_value(kMinimalMaterial.at(t.name), "m.json");
         def.set("type", ParamValue::string(t.name));
         SceneDescription d = sphere_scene(ParamValue::number(1));
         d.root.set("materials", ParamValue::dict({{"m", def}}));

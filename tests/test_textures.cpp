@@ -16,7 +16,6 @@
 #include "program_process.h"
 #include "io/image_encoders.h"
 #include "io/image_writer.h"
-#include "io/json.h"
 #include "scene/json_scene_reader.h"
 #include "scene/texture_parser.h"
 #include "spectral/rgb_texels.h"
@@ -116,7 +115,7 @@ Loaded load_texture(const std::string& definition, const std::string& bytes, Tex
     };
     const SpectrumParser spectra(SourceFiles{"t.json"}, resolution);
     TextureParser parser(SourceFiles{"t.json"}, resolution, spectra, reader, l.scene);
-    const ParamValue defs = param_value_from_json(parse_json("{\"t\": " + definition + "}", "t.json"));
+    const ParamValue defs = read_json_value("{\"t\": " + definition + "}", "t.json");
     parser.definitions(defs);
     const ParamValue binding = ParamValue::dict({{"texture", ParamValue::string("t")}});
     l.texture = parser.bind(binding, "value", use);

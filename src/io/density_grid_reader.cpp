@@ -5,7 +5,7 @@
 #include <charconv>
 #include <cmath>
 
-#include "io/json.h"
+#include "io/located_error.h"
 
 namespace spt {
 

@@ -8,7 +8,7 @@
 #include <cstring>
 #include <optional>
 
-#include "io/json.h"
+#include "io/located_error.h"
 
 namespace spt {
 

@@ -22,7 +22,7 @@
 #include <vector>
 
 #include "core/vec3.h"
-#include "io/json.h"  // TextPos, LocatedError: a position in a text and the error that names it
+#include "io/located_error.h"
 
 namespace spt {
 

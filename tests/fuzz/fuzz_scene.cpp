@@ -14,7 +14,7 @@
 
 #include "io/checksums.h"
 #include "io/image_decoders.h"
-#include "io/json.h"
+#include "io/located_error.h"
 #include "io/ply_reader.h"
 #include "scene/scene_loader.h"
 
