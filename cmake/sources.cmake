@@ -57,6 +57,9 @@ set(SPT_CORE_SOURCES
     src/scene/scene_description.cpp
     src/scene/scene_builder.cpp
     src/scene/json_scene_reader.cpp
+    src/scene/pbrt_params.cpp
+    src/scene/pbrt_scene_reader.cpp
+    src/scene/pbrt_tokenizer.cpp
     src/scene/medium_parser.cpp
     src/scene/material_types.cpp
     src/scene/scene.cpp

@@ -148,7 +148,7 @@ std::optional<spt::Scene> load_scene(const spt::Options& opt, spt::InputFiles& f
     if (opt.scene.ends_with(".json") || std::filesystem::is_regular_file(opt.scene, ec))
         return spt::load_scene_file(opt.scene, opt.spectral, &files);
     const std::vector<std::string> builtins = spt::builtin_scene_names();
-    throw spt::UsageError("SCENE: expected a scene file (.json) or one of " + spt::join(builtins) + ", got '" +
+    throw spt::UsageError("SCENE: expected a scene file (.json or .pbrt) or one of " + spt::join(builtins) + ", got '" +
                           opt.scene + "'." + spt::suggestion(opt.scene, builtins));
 }
 
@@ -178,6 +178,11 @@ int run(const spt::Options& opt) {
     std::vector<std::string> warnings = scene->warnings;
     for (const std::string& w : spt::ineffective_flag_warnings(opt, integrator.settings, outputs, *scene))
         warnings.push_back(w);
+    if (opt.strict && !scene->warnings.empty()) {
+        for (const std::string& w : scene->warnings) std::fprintf(stderr, "pathtracer: error: %s\n", w.c_str());
+        throw spt::UsageError("--strict: the scene has " + std::to_string(scene->warnings.size()) +
+                              " warning(s), each an error with --strict; expected none");
+    }
     for (const std::string& w : warnings) std::fprintf(stderr, "pathtracer: warning: %s\n", w.c_str());
     if (!opt.dispersion) scene->disable_dispersion();
     if (!opt.bvh && !scene->disable_bvh())

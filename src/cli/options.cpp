@@ -69,7 +69,7 @@ const std::vector<std::string>& known_flags() {
         "--spectral-range", "--sensor", "--preview-interval", "--display-server", "--threads", "--tile", "--queue",
         "--schedule", "--seed",
         "--checkpoint", "--resume", "--checkpoint-interval", "--time-limit", "--wavelengths-per-path",
-        "--integrator", "--light-sampling", "--caustic-nee", "--plane-nee", "--merge-radius", "--no-dispersion", "--no-bvh", "--pass-spp", "--max-depth",
+        "--integrator", "--light-sampling", "--caustic-nee", "--plane-nee", "--merge-radius", "--no-dispersion", "--no-bvh", "--strict", "--pass-spp", "--max-depth",
         "--passes", "--print-passes", "--sampler"};
     return flags;
 }
@@ -79,8 +79,9 @@ std::string usage_text() {
        pathtracer merge PART.film... -o FILE [-o FILE...] [output options]
 
 Spectral Monte Carlo path tracer. SCENE is a built-in scene name (default: )" + std::string(kDefaultScene) + R"(; see
---list-scenes) or a scene file (.json, format in scenes/README.md). An error in a scene file
-is reported as FILE:LINE:COLUMN: message, with exit status 1.
+--list-scenes) or a scene file: .json (format in scenes/README.md) or a pbrt-v4 file (.pbrt;
+docs/PBRT.md says what is read and how). An error in a scene file is reported as
+FILE:LINE:COLUMN: message, with exit status 1.
 
 Options:
   --spp N                paths per pixel (1 to 1000000; default: the scene's)
@@ -147,6 +148,8 @@ Options:
                          what dispersion costs)
   --no-bvh               test every sphere and triangle in a loop, without a BVH (to
                          measure what the BVH buys; refused for quadrics and instances)
+  --strict               every warning about the scene is an error: a pbrt-v4 parameter
+                         or type this renderer does not support, an open glass mesh
   --integrator NAME      path (default: unidirectional path tracing), bdpt
                          (bidirectional: light and camera subpaths combined by MIS) or vcm
                          (bdpt plus vertex merging: photon density estimation as one more
@@ -398,6 +401,8 @@ Options parse_options(const std::vector<std::string>& args) {
             o.dispersion = false;
         } else if (flag == "--no-bvh") {
             o.bvh = false;
+        } else if (flag == "--strict") {
+            o.strict = true;
         } else if (flag == "--pass-spp") {
             o.pass_spp = parse_integer<int>(flag, next_value(), 1, 1000000, "an integer from 1 to 1000000");
         } else if (flag == "--passes") {
@@ -418,7 +423,8 @@ Options parse_options(const std::vector<std::string>& args) {
         else if (flag == "-o") o.given.insert("--output");
         if (inline_value && (flag == "-h" || flag == "--help" || flag == "--version" ||
                              flag == "--list-scenes" || flag == "--quiet" ||
-                             flag == "--no-dispersion" || flag == "--no-bvh" || flag == "--auto-exposure" ||
+                             flag == "--no-dispersion" || flag == "--no-bvh" || flag == "--strict" ||
+                             flag == "--auto-exposure" ||
                              flag == "--print-passes"))
             throw UsageError(flag + ": takes no value");
     }

@@ -51,6 +51,7 @@ struct Options {
     bool plane_nee = true;         ///< --plane-nee (path: sample emitting infinite planes)
     std::optional<SamplerKind> sampler;  ///< --sampler (default: default_sampler)
     bool dispersion = true;        ///< false: dispersive glass gets its mean index
+    bool strict = false;           ///< every warning about the scene is an error (--strict)
     bool bvh = true;               ///< false: spheres and triangles tested in a loop (--no-bvh)
     int pass_spp = 0;  ///< samples per pass (0: automatic); does not change the image
     double exposure = 0.0;

@@ -129,6 +129,9 @@ struct SceneDescription {
     SourceFiles files;
     std::string name;
     ParamValue root = ParamValue::dict();
+    /// What the reader could not map exactly, each "file:line:column: what" (a pbrt-v4
+    /// parameter this renderer does not support, a type replaced by the nearest one).
+    std::vector<std::string> warnings;
 
     /// Adds a file to the table (once: a name already there keeps its index); returns the
     /// index its values' SourcePos::file carries.

@@ -16,11 +16,13 @@
 namespace spt {
 
 /// A scene file format: its name in messages, the file name ending that selects it, and its
-/// reader (text, origin for messages, scene name → description; throws LocatedError).
+/// reader (text, origin for messages, scene name, the reader of the files it refers to →
+/// description; throws LocatedError).
 struct SceneReader {
     const char* format;
     const char* extension;
-    SceneDescription (*read)(std::string_view text, const std::string& origin, const std::string& scene_name);
+    SceneDescription (*read)(std::string_view text, const std::string& origin, const std::string& scene_name,
+                             const RelativeFileReader& read_relative);
 };
 
 /// Every format the program reads, one row each; the first is used for names without a

@@ -10,6 +10,7 @@
 #include "io/checksums.h"
 #include "io/embedded_files.h"
 #include "scene/json_scene_reader.h"
+#include "scene/pbrt_scene_reader.h"
 #include "scene/scene_builder.h"
 
 namespace spt {
@@ -40,7 +41,11 @@ std::string read_whole_file(const std::filesystem::path& path, std::string& erro
 
 const std::vector<SceneReader>& scene_readers() {
     static const std::vector<SceneReader> readers = {
-        {"JSON", ".json", read_json_scene},
+        {"JSON", ".json",
+         [](std::string_view text, const std::string& origin, const std::string& name, const RelativeFileReader&) {
+             return read_json_scene(text, origin, name);
+         }},
+        {"pbrt-v4", ".pbrt", read_pbrt_scene},
     };
     return readers;
 }
@@ -59,7 +64,9 @@ Scene load_scene_text(std::string_view text, const std::string& origin, const st
     const SceneReader* reader = &scene_readers().front();
     for (const SceneReader& r : scene_readers())
         if (origin.ends_with(r.extension)) reader = &r;
-    Scene scene = build_scene(reader->read(text, origin, scene_name), resolution, recording);
+    const SceneDescription description = reader->read(text, origin, scene_name, recording);
+    Scene scene = build_scene(description, resolution, recording);
+    scene.warnings.insert(scene.warnings.begin(), description.warnings.begin(), description.warnings.end());
     if (input_files) *input_files = std::move(inputs);
     return scene;
 }
@@ -67,7 +74,7 @@ Scene load_scene_text(std::string_view text, const std::string& origin, const st
 Scene load_scene_file(const std::string& path, SpectralResolution resolution, InputFiles* input_files) {
     std::string error;
     const std::string text = read_whole_file(path, error);
-    if (!error.empty()) throw LocatedError(path, {1, 1}, "cannot read the scene file: " + error + "; expected a readable JSON file");
+    if (!error.empty()) throw LocatedError(path, {1, 1}, "cannot read the scene file: " + error + "; expected a readable scene file");
     const std::filesystem::path base = std::filesystem::path(path).parent_path();
     const RelativeFileReader reader = [&](const std::string& rel, std::string& contents, std::string& display,
                                           std::string& why) {
