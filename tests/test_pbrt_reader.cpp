@@ -315,7 +315,6 @@ const Malformed kMalformed[] = {
     {"WorldBegin\nLightSource \"spot\" \"point3 from\" [0 0 0] \"point3 to\" [0 0 0]", "2:1", "\"from\" equal to \"to\""},
     {"Integrator \"path\" \"integer maxdepth\" -1", "1:19", "expected at least 0"},
     {"ActiveTransform Sometimes", "1:1", "expected All, StartTime or EndTime"},
-    {"WorldBegin\nInclude \"scene.pbrt.gz\"", "2:9", "is compressed"},
     {"WorldBegin\nTexture \"t\" \"color\" \"imagemap\"", "2:9", "expected \"spectrum\" or \"float\""},
     {"WorldBegin\nTexture \"t\" \"spectrum\" \"imagemap\"", "2:9", "has no \"string filename\""},
     {"WorldBegin\n]", "2:1", "unexpected ']'"},

@@ -200,6 +200,45 @@ private:
 
 }  // namespace
 
+bool is_gzip(std::string_view data) {
+    return data.size() >= 2 && static_cast<unsigned char>(data[0]) == 0x1f && static_cast<unsigned char>(data[1]) == 0x8b;
+}
+
+std::string gzip_decompress(std::string_view file) {
+    if (!is_gzip(file) || file.size() < 18) throw InflateError("not a gzip file (too short or no gzip magic bytes)");
+    const auto byte = [&](std::size_t i) { return static_cast<unsigned>(static_cast<unsigned char>(file[i])); };
+    const auto le32 = [&](std::size_t i) {
+        return static_cast<std::uint32_t>(byte(i) | byte(i + 1) << 8 | byte(i + 2) << 16 | byte(i + 3) << 24);
+    };
+    if (byte(2) != 8) throw InflateError("the gzip header does not announce DEFLATE");
+    const unsigned flags = byte(3);
+    if (flags & 0xe0) throw InflateError("the gzip header has reserved flag bits set");
+    std::size_t at = 10;
+    const std::size_t body_end = file.size() - 8;
+    if (flags & 0x04) {  // FEXTRA: a length and that many bytes
+        if (at + 2 > body_end) throw InflateError("the gzip header is truncated");
+        at += 2 + (byte(at) | byte(at + 1) << 8);
+    }
+    for (const unsigned text_field : {0x08u, 0x10u}) {  // FNAME, FCOMMENT: zero-terminated
+        if (!(flags & text_field)) continue;
+        while (at < body_end && file[at] != 0) ++at;
+        ++at;
+    }
+    if (flags & 0x02) at += 2;  // FHCRC
+    if (at >= body_end) throw InflateError("the gzip header is truncated");
+    const std::uint32_t size = le32(file.size() - 4);
+    Inflater inflater(file.substr(at, body_end - at), size);
+    const std::vector<std::uint8_t> out = inflater.run();
+    if (at + inflater.consumed() != body_end)
+        throw InflateError("the gzip file has data after its first member; expected one member");
+    if (out.size() != size)
+        throw InflateError("the decompressed data has " + std::to_string(out.size()) + " bytes; the gzip trailer says " +
+                           std::to_string(size));
+    std::string text(reinterpret_cast<const char*>(out.data()), out.size());
+    if (crc32(text) != le32(file.size() - 8)) throw InflateError("the CRC-32 does not match the decompressed data");
+    return text;
+}
+
 std::vector<std::uint8_t> zlib_decompress(std::string_view stream, std::size_t expected_size) {
     if (stream.size() < 6) throw InflateError("the zlib stream is too short");
     const unsigned cmf = static_cast<unsigned char>(stream[0]), flg = static_cast<unsigned char>(stream[1]);

@@ -540,7 +540,6 @@ private:
 
     void include(const std::string& file_name, SourcePos at, int depth) {
         if (depth >= 32) fail(at, "Include nested more than 32 deep; expected a shallower chain of files");
-        if (file_name.ends_with(".gz")) fail(at, "\"" + file_name + "\" is compressed; expected an uncompressed file (gunzip it)");
         std::string contents, display, why;
         if (!m_read_relative(file_name, contents, display, why))
             fail(at, "cannot read \"" + file_name + "\": " + why + "; expected a readable file relative to the scene file");

@@ -9,6 +9,7 @@
 
 #include "io/checksums.h"
 #include "io/embedded_files.h"
+#include "io/inflate.h"
 #include "scene/json_scene_reader.h"
 #include "scene/pbrt_scene_reader.h"
 #include "scene/scene_builder.h"
@@ -34,6 +35,14 @@ std::string read_whole_file(const std::filesystem::path& path, std::string& erro
     }
     std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
     if (in.bad()) error = "read error";
+    if (error.empty() && path.extension() == ".gz" && is_gzip(text)) {
+        try {
+            return gzip_decompress(text);
+        } catch (const InflateError& e) {
+            error = std::string("corrupt gzip data: ") + e.what();
+            return {};
+        }
+    }
     return text;
 }
 
@@ -62,8 +71,11 @@ Scene load_scene_text(std::string_view text, const std::string& origin, const st
         return true;
     };
     const SceneReader* reader = &scene_readers().front();
+    const std::string_view format_name = std::string_view(origin).ends_with(".gz")
+                                             ? std::string_view(origin).substr(0, origin.size() - 3)
+                                             : std::string_view(origin);
     for (const SceneReader& r : scene_readers())
-        if (origin.ends_with(r.extension)) reader = &r;
+        if (format_name.ends_with(r.extension)) reader = &r;
     const SceneDescription description = reader->read(text, origin, scene_name, recording);
     Scene scene = build_scene(description, resolution, recording);
     scene.warnings.insert(scene.warnings.begin(), description.warnings.begin(), description.warnings.end());
@@ -83,7 +95,9 @@ Scene load_scene_file(const std::string& path, SpectralResolution resolution, In
         contents = read_whole_file(full, why);
         return why.empty();
     };
-    return load_scene_text(text, path, std::filesystem::path(path).stem().string(), resolution, reader, input_files);
+    std::filesystem::path name = std::filesystem::path(path).stem();
+    if (std::filesystem::path(path).extension() == ".gz") name = name.stem();  // scene.pbrt.gz is "scene"
+    return load_scene_text(text, path, name.string(), resolution, reader, input_files);
 }
 
 std::vector<std::string> builtin_scene_names() {
