@@ -8,6 +8,7 @@
 #include <set>
 #include <sstream>
 
+#include "core/text.h"
 #include "geometry/dvec3.h"
 #include "scene/pbrt_params.h"
 #include "scene/pbrt_tokenizer.h"
@@ -166,7 +167,7 @@ ParamValue unbounded_rgb(double r, double g, double b, SourcePos pos) {
 enum class Role { Albedo, Unbounded, Illuminant };
 
 const char* const kDirectives[] = {
-    "AttributeBegin", "AttributeEnd", "Attribute", "ActiveTransform", "AreaLightSource", "Camera", "ColorSpace",
+    "Accelerator", "AttributeBegin", "AttributeEnd", "Attribute", "ActiveTransform", "AreaLightSource", "Camera", "ColorSpace",
     "ConcatTransform", "CoordinateSystem", "CoordSysTransform", "Film", "Identity", "Import", "Include", "Integrator",
     "LightSource", "LookAt", "MakeNamedMaterial", "MakeNamedMedium", "Material", "MediumInterface", "NamedMaterial",
     "ObjectBegin", "ObjectEnd", "ObjectInstance", "Option", "PixelFilter", "ReverseOrientation", "Rotate", "Sampler",
@@ -423,6 +424,10 @@ private:
         } else if (name == "Integrator") {
             const std::string kind = type("an integrator type");
             integrator(kind, params(), pos);
+        } else if (name == "Accelerator") {
+            // How pbrt-v4 builds its BVH or k-d tree: the renderer builds its own; the image is the same.
+            type("an accelerator type");
+            params();
         } else if (name == "PixelFilter") {
             const std::string f = type("a filter type");
             params();
@@ -587,6 +592,7 @@ private:
 
     void film(const std::string& type, const PbrtParams& p, SourcePos pos) {
         if (type != "rgb") warn(pos, "Film \"" + type + "\" is written as an RGB image");
+        p.find("diagonal");  // the sensor's size, which only pbrt-v4's realistic camera reads
         m_width = p.get_int("xresolution", 1280);
         m_height = p.get_int("yresolution", 720);
         // The sensor's defaults are the plain CIE observer at unit exposure, which is what this
@@ -736,6 +742,15 @@ private:
             ParamValue t = ParamValue::dict({{"type", str("image", pos)}}, pos);
             const PbrtParam* f = p.find("filename");
             if (!f || f->type != "string") fail(pos, "imagemap texture \"" + name + "\" has no \"string filename\"; expected the image's file");
+            const std::string& file_name = f->strings[0];
+            const std::string ext = lowercase(file_name.substr(std::min(file_name.size(), file_name.rfind('.'))));
+            if (ext != ".png" && ext != ".pfm" && ext != ".exr" && ext != ".ppm") {
+                warn(f->pos, "image \"" + file_name + "\": this format is not read (PNG, PFM, EXR and PPM are); materials that use \"" +
+                                 name + "\" take their default");
+                for (const PbrtParam& q : p.all()) q.used = true;
+                m_texture_info[name] = info;
+                return;
+            }
             t.set("file", str(f->strings[0], f->pos));
             const std::string wrap = p.get_string("wrap", "repeat");
             if (wrap == "repeat" || wrap == "clamp") t.set("wrap", str(wrap, pos));

@@ -55,7 +55,8 @@ ParamValue ParamValue::dict(std::initializer_list<std::pair<std::string, ParamVa
     return v;
 }
 
-ParamValue& ParamValue::set(std::string key, ParamValue value, SourcePos key_pos) {
+ParamValue& ParamValue::set(std::string key, ParamValue value, std::optional<SourcePos> key_position) {
+    const SourcePos key_pos = key_position.value_or(value.pos());
     for (std::size_t i = 0; i < m_members.size(); ++i)
         if (m_members[i].first == key) {
             m_members[i].second = std::move(value);

@@ -16,6 +16,7 @@
 #include <cstdint>
 #include <functional>
 #include <initializer_list>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -57,8 +58,9 @@ public:
     static ParamValue dict(std::initializer_list<std::pair<std::string, ParamValue>> members, SourcePos pos = {});
 
     /// Adds (or replaces) the member `key` of a dictionary; `key_pos` is where the key was
-    /// written (messages about an unknown key point there). Returns *this.
-    ParamValue& set(std::string key, ParamValue value, SourcePos key_pos = {});
+    /// written (messages about an unknown key point there), by default where the value was.
+    /// Returns *this.
+    ParamValue& set(std::string key, ParamValue value, std::optional<SourcePos> key_pos = std::nullopt);
     /// Adds the member `key`, which the dictionary must not have yet (a reader that has
     /// checked the keys are unique). Returns *this.
     ParamValue& add(std::string key, ParamValue value, SourcePos key_pos = {});
