@@ -465,6 +465,22 @@ TEST_F(Cli, NoBvhIsRefusedForShapesOnlyTheBvhIntersects) {
     EXPECT_EQ(run({"disk.json", "-o", "a.pfm"}).exit_code, 0);
 }
 
+TEST_F(Cli, PbrtFilesRenderAndStrictMakesTheirWarningsErrors) {
+    write_file(m_dir / "ball.pbrt", "Film \"rgb\" \"integer xresolution\" 8 \"integer yresolution\" 6\n"
+                                    "Sampler \"independent\" \"integer pixelsamples\" 1\n"
+                                    "LookAt 0 0 3  0 0 0  0 1 0\nCamera \"perspective\"\nWorldBegin\n"
+                                    "LightSource \"point\" \"point3 from\" [0 0 2] \"rgb I\" [1 1 1]\n"
+                                    "Shape \"sphere\" \"float radius\" 0.5 \"float zmax\" 0.2\n");
+    const RunResult warned = run({"ball.pbrt", "-o", "a.pfm"});
+    EXPECT_EQ(warned.exit_code, 0) << warned.err;
+    EXPECT_NE(warned.err.find("ball.pbrt:7:35: \"zmax\" (a partial shape) is not supported"), std::string::npos) << warned.err;
+    EXPECT_TRUE(fs::exists(m_dir / "a.pfm"));
+    const RunResult strict = run({"ball.pbrt", "--strict", "-o", "b.pfm"});
+    EXPECT_EQ(strict.exit_code, 2) << strict.err;
+    EXPECT_NE(strict.err.find("--strict"), std::string::npos) << strict.err;
+    EXPECT_FALSE(fs::exists(m_dir / "b.pfm"));
+}
+
 /// Width and height from a PNG file's IHDR chunk ({0, 0} when it is not a PNG).
 std::pair<unsigned, unsigned> png_size(const fs::path& path) {
     const std::string png = read_file(path);
