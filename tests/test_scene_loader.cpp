@@ -2,6 +2,8 @@
 // messages, and the Cornell boxes as files rendering bit-identically to their C++ definitions.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -9,6 +11,8 @@
 
 #include "cornell_reference.h"
 #include "scene/scene_loader.h"
+#include "spectral/cie.h"
+#include "spectral/rgb_texels.h"
 #include "spectral/rgb_to_spectrum.h"
 #include "test_scenes.h"
 
@@ -170,6 +174,85 @@ TEST(SceneLoader, ReadmeExampleLoads) {
     const Scene s = load(readme.substr(start + 8, end - start - 8), reader);
     EXPECT_EQ(s.spheres.size(), 1u);
     EXPECT_EQ(s.triangles.size(), 8u + 2u);
+}
+
+/// "s.json:LINE:COLUMN" of the first occurrence of `needle` in `text` (the position an error
+/// about that value must name).
+std::string position_of(const std::string& text, const std::string& needle) {
+    // Past the first line (the camera of scene_json) when the needle is there.
+    std::size_t at = text.find(needle, text.find('\n'));
+    if (at == std::string::npos) at = text.find(needle);
+    EXPECT_NE(at, std::string::npos) << needle;
+    const std::size_t line_start = text.rfind('\n', at);
+    const std::size_t line = 1 + static_cast<std::size_t>(std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(at), '\n'));
+    const std::size_t column = at - (line_start == std::string::npos ? 0 : line_start + 1) + 1;
+    return "s.json:" + std::to_string(line) + ":" + std::to_string(column) + ": ";
+}
+
+/// The error of `text` starts at the position of `needle` and contains `message`.
+void expect_error_at(const std::string& text, const std::string& needle, const std::string& message,
+                     const RelativeFileReader& reader = kNoFiles) {
+    const std::string e = error_of(text, reader);
+    EXPECT_EQ(e.rfind(position_of(text, needle), 0), 0u) << e;
+    EXPECT_NE(e.find(message), std::string::npos) << e;
+}
+
+TEST(SceneLoader, ProductSpectrumIsTheProductOfItsFactors) {
+    const std::string gaussian = R"({"type": "gaussian", "center_nm": 550, "width_nm": 40, "scale": 0.5, "offset": 0.1})";
+    const std::string product = R"({"type": "product", "factors": [0.8, )" + gaussian + R"(], "scale": 0.5})";
+    for (double l : {380.0, 470.0, 550.0, 563.5, 640.0, 800.0}) {
+        const double g = 0.1 + 0.5 * std::exp(-std::pow((l - 550) / 40, 2));
+        EXPECT_NEAR(kd_at(product, l), 0.5 * 0.8 * g, 1e-15) << l;
+        // Any form is a factor, products too; the scale defaults to 1.
+        EXPECT_NEAR(kd_at(R"({"type": "product", "factors": [)" + product + R"(, [0.8, 0.2, 0.1]]})", l),
+                    0.5 * 0.8 * g * rgb_to_spectrum({0.8, 0.2, 0.1}).eval(l), 1e-15) << l;
+    }
+    auto kd_constant = [](const std::string& spectrum) {
+        const Scene s = load(scene_json("\"m\": {\"kd\": " + spectrum + "}", "{\"type\": \"sphere\", \"center\": [0,0,0], \"radius\": 1, \"material\": \"m\"}"));
+        return test::kd_of(s.materials[0]).source().is_constant();
+    };
+    EXPECT_TRUE(kd_constant(R"({"type": "product", "factors": [0.5, {"type": "constant", "value": 0.5}]})"));
+    EXPECT_FALSE(kd_constant(product));
+    // The RGB illuminant of pbrt-v4: an RGB colour times D65.
+    const std::string rgb_d65 = R"({"type": "product", "factors": [{"type": "rgb", "value": [1, 0.5, 0.2]}, {"type": "illuminant", "name": "D65"}]})";
+    EXPECT_NEAR(emission_at(rgb_d65, 600), rgb_to_spectrum({1, 0.5, 0.2}).eval(600) * emission_at(R"({"type": "illuminant", "name": "D65"})", 600), 1e-12);
+}
+
+TEST(SceneLoader, NormalizedSpectrumHasTheGivenLuminance) {
+    // The film's luminance, computed here from the observer the film uses (Y over ∫ȳ).
+    auto film_luminance = [](const std::string& spectrum) {
+        const Scene s = load(scene_json("", "{\"type\": \"sphere\", \"center\": [0,0,0], \"radius\": 1, \"emission\": " + spectrum + "}"));
+        const SpectrumSource& e = std::get<SphereLight>(s.lights.at(0)).Le.source();
+        const Observer& cie = Cie1931::get();
+        double y = 0;
+        for (int l = 360; l < 830; ++l)
+            y += 0.5 * (cie.cmf(static_cast<float>(l)).y * e.eval(l) + cie.cmf(static_cast<float>(l + 1)).y * e.eval(l + 1));
+        return y / cie.y_integral();
+    };
+    const std::string d65 = R"({"type": "normalized", "spectrum": {"type": "illuminant", "name": "D65"}, "luminance": 1})";
+    EXPECT_NEAR(film_luminance(d65), 1.0, 1e-4);
+    // The same unit D65 that an RGB texel's white emits.
+    for (double l : {400.0, 555.0, 700.0}) EXPECT_NEAR(emission_at(d65, l), d65_unit_luminance(l), 1e-12 * d65_unit_luminance(l));
+    EXPECT_NEAR(film_luminance(R"({"type": "normalized", "spectrum": {"type": "blackbody", "temperature_k": 3000}, "luminance": 7.5})"),
+                7.5, 7.5e-4);
+    EXPECT_DOUBLE_EQ(emission_at(R"({"type": "normalized", "spectrum": 0.3, "luminance": 2})", 500), 2.0);
+    EXPECT_EQ(kd_at(R"({"type": "normalized", "spectrum": 0.3, "luminance": 0})", 500), 0.0);
+}
+
+TEST(SceneLoader, ProductAndNormalizedErrorsAreLocated) {
+    auto emitter = [](const std::string& spectrum) {
+        return scene_json("", "{\"type\": \"sphere\", \"center\": [0,0,0], \"radius\": 1, \"emission\": " + spectrum + "}");
+    };
+    expect_error_at(emitter(R"({"type": "product", "factors": []})"), "[]", "factors is not a non-empty array");
+    expect_error_at(emitter(R"({"type": "product", "factors": [1, {"type": "gausian"}]})"), "\"gausian\"", "Did you mean \"gaussian\"?");
+    expect_error_at(emitter(R"({"type": "normalized", "spectrum": {"type": "constant", "value": 0}, "luminance": 1})"),
+                    "{\"type\": \"constant\"", "spectrum has luminance 0; expected a spectrum of positive luminance");
+    expect_error_at(emitter(R"({"type": "normalized", "spectrum": 1, "luminance": -2})"), "-2",
+                    "luminance is -2; expected a finite number >= 0");
+    expect_error_at(emitter(R"({"type": "normalized", "luminance": 1})"), "{\"type\": \"normalized\"", "has no \"spectrum\"");
+    // The product is checked for its use as a whole: a reflectance above 1.
+    expect_error_at(scene_json("\"m\": {\"kd\": {\"type\": \"product\", \"factors\": [0.9, 2]}}", ""), "{\"type\": \"product\"",
+                    "expected a reflectance in [0, 1]");
 }
 
 /// scenes/cornell*.json against the C++ definitions of DESIGN.md: identical films.
