@@ -255,6 +255,86 @@ TEST(SceneLoader, ProductAndNormalizedErrorsAreLocated) {
                     "expected a reflectance in [0, 1]");
 }
 
+/// The triangles' vertices of `a` and `b` agree within `tolerance`.
+void expect_same_triangles(const Scene& a, const Scene& b, float tolerance) {
+    ASSERT_EQ(a.triangles.size(), b.triangles.size());
+    for (std::size_t i = 0; i < a.triangles.size(); ++i)
+        for (const auto& [p, q] : {std::pair{a.triangles[i].p0, b.triangles[i].p0}, std::pair{a.triangles[i].p1, b.triangles[i].p1},
+                                  std::pair{a.triangles[i].p2, b.triangles[i].p2}}) {
+            EXPECT_NEAR(p.x, q.x, tolerance) << i;
+            EXPECT_NEAR(p.y, q.y, tolerance) << i;
+            EXPECT_NEAR(p.z, q.z, tolerance) << i;
+        }
+}
+
+const std::string kQuadPly =
+    "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
+    "property float nx\nproperty float ny\nproperty float nz\nproperty float u\nproperty float v\n"
+    "element face 2\nproperty list uchar int vertex_indices\nend_header\n"
+    "0 0 0 0 0 1 0 0\n1 0 0 0 0.6 0.8 1 0\n1 1 0.5 0 0 1 1 1\n0 1 0 0.6 0 0.8 0 1\n3 0 1 2\n3 0 2 3\n";
+const std::string kQuadInline =
+    R"("positions": [0, 0, 0,  1, 0, 0,  1, 1, 0.5,  0, 1, 0], "indices": [0, 1, 2,  0, 2, 3],
+       "normals": [0, 0, 1,  0, 0.6, 0.8,  0, 0, 1,  0.6, 0, 0.8], "uv": [0, 0,  1, 0,  1, 1,  0, 1])";
+
+TEST(SceneLoader, InlineMeshBuildsAsTheSamePlyMesh) {
+    const RelativeFileReader reader = [&](const std::string& rel, std::string& contents, std::string& display, std::string&) {
+        display = rel;
+        contents = kQuadPly;
+        return rel == "quad.ply";
+    };
+    for (const std::string& placement : {std::string(R"("transform": {"matrix": [0, -2, 0, 1,  2, 0, 0, 0,  0, 0, -2, 3,  0, 0, 0, 1]})"),
+                                        std::string(R"("instances": [{}, {"translate": [3, 0, 0]}])")}) {
+        const std::string rest = ", \"material\": \"m\", " + placement + "}";
+        const Scene a = load(scene_json("\"m\": {\"kd\": 0.5}", "{\"type\": \"mesh\", \"file\": \"quad.ply\"" + rest), reader);
+        const Scene b = load(scene_json("\"m\": {\"kd\": 0.5}", "{\"type\": \"mesh\", " + kQuadInline + rest));
+        expect_same_triangles(a, b, 0);
+        ASSERT_EQ(a.instanced_meshes.size(), b.instanced_meshes.size());
+        for (std::size_t m = 0; m < a.instanced_meshes.size(); ++m) {
+            ASSERT_EQ(a.instanced_meshes[m].triangles.size(), b.instanced_meshes[m].triangles.size());
+            for (std::size_t i = 0; i < a.instanced_meshes[m].triangles.size(); ++i) {
+                EXPECT_EQ(a.instanced_meshes[m].triangles[i].p0, b.instanced_meshes[m].triangles[i].p0);
+                EXPECT_EQ(a.instanced_meshes[m].triangles[i].p2, b.instanced_meshes[m].triangles[i].p2);
+            }
+        }
+        EXPECT_EQ(a.instances.size(), b.instances.size());
+        ASSERT_EQ(a.triangle_attributes.size(), b.triangle_attributes.size());
+        ASSERT_FALSE(a.triangle_attributes.empty());
+        for (std::size_t i = 0; i < a.triangle_attributes.size(); ++i) {
+            const TriangleAttributes &x = a.triangle_attributes[i], &y = b.triangle_attributes[i];
+            EXPECT_TRUE(y.has_normals && y.has_uv);
+            for (int k = 0; k < 3; ++k) {
+                EXPECT_EQ(x.n[k], y.n[k]);
+                EXPECT_EQ(x.uv[k][0], y.uv[k][0]);
+                EXPECT_EQ(x.uv[k][1], y.uv[k][1]);
+            }
+        }
+    }
+    // An emitting one-sided inline mesh: the mesh's emitter, as for a file.
+    const Scene e = load(scene_json("", "{\"type\": \"mesh\", " + kQuadInline + ", \"emission\": 2, \"two_sided\": false}"));
+    ASSERT_EQ(e.triangles.size(), 2u);
+    EXPECT_GE(e.triangles[0].light, 0);
+}
+
+TEST(SceneLoader, InlineMeshErrorsAreLocated) {
+    auto mesh = [](const std::string& keys) { return scene_json("\"m\": {\"kd\": 0.5}", "{\"type\": \"mesh\", " + keys + ", \"material\": \"m\"}"); };
+    expect_error_at(mesh(R"("positions": [0, 0, 0,  1, 0, 0,  0, 1], "indices": [0, 1, 2])"), "[0, 0, 0", "positions has 8 numbers; expected a multiple of 3");
+    expect_error_at(mesh(R"("positions": [0, 0, 0,  1, 0, 0,  0, 1, 0], "indices": [0, 1, 2, 0])"), "[0, 1, 2, 0]", "indices has 4 numbers; expected a multiple of 3");
+    expect_error_at(mesh(R"("positions": [0, 0, 0,  1, 0, 0,  0, 1, 0], "indices": [0, 1, 2,  2, 1, 3])"), "3]",
+                    "indices: triangle 1 has the index 3; expected an integer from 0 to below the vertex count, 3");
+    expect_error_at(mesh(R"("positions": [0, 0, 0,  1, 0, 0,  0, 1, 0], "indices": [0, 1.5, 2])"), "1.5", "triangle 0 has the index 1.5");
+    expect_error_at(mesh(R"("positions": [0, 0, 0,  1, 0, 0,  0, 1, 0], "indices": [0, -1, 2])"), "-1", "triangle 0 has the index -1");
+    expect_error_at(mesh(R"("positions": [0, 0, 0,  1, 0, 0,  0, 1, 0], "indices": [0, 1, 2], "uv": [0, 0, 1, 0, 1])"), "[0, 0, 1, 0, 1]",
+                    "uv has 5 numbers; expected a multiple of 2");
+    expect_error_at(mesh(R"("positions": [0, 0, 0,  1, 0, 0,  0, 1, 0], "indices": [0, 1, 2], "normals": [0, 0, 1])"), "[0, 0, 1]",
+                    "normals has 3 numbers; expected 3 per vertex (9)");
+    expect_error_at(mesh(R"("positions": [0, 0, 0,  1, 0, "x",  0, 1, 0], "indices": [0, 1, 2])"), "\"x\"", "an element of mesh (shape 0) positions is a string");
+    expect_error_at(mesh(R"("positions": [0, 0, 0,  1, 0, 0,  0, 1, 0])"), "{\"type\": \"mesh\"", "has no \"indices\"");
+    expect_error_at(mesh(R"("file": "a.ply", "positions": [0, 0, 0], "indices": [0, 0, 0])"), "[0, 0, 0]", "has both \"file\" and \"positions\"");
+    expect_error_at(mesh(R"("positons": [0, 0, 0], "indices": [0, 0, 0])"), "\"positons\"", "Did you mean \"positions\"?");
+    expect_error_at(mesh(R"("positions": [0, 0, 0,  1, 0, 0,  2, 0, 0], "indices": [0, 1, 2])"), "[0, 0, 0",
+                    "\"inline mesh\" has no triangle of non-zero area");
+}
+
 /// scenes/cornell*.json against the C++ definitions of DESIGN.md: identical films.
 TEST(SceneLoader, CornellFilesRenderBitIdenticallyToTheCppDefinitions) {
     for (const char* name : {"cornell", "cornell-point"})

@@ -488,6 +488,71 @@ private:
         return tr;
     }
 
+    /// The mesh of the PLY file named by `v`; `display` becomes the file's name for messages.
+    PlyMesh ply_mesh(const ParamValue& v, const std::string& what, std::string& display) const {
+        const std::string& file = string(v, what + " file");
+        std::string contents, error;
+        if (file.empty() || !m_read_relative(file, contents, display, error))
+            fail(v.pos(), "cannot read mesh " + quote_text(file) + (error.empty() ? "" : ": " + error) +
+                              "; expected a PLY file path relative to the scene file");
+        return parse_ply(contents, display);
+    }
+
+    /// A flat array of finite numbers, a multiple of `group` long.
+    std::vector<double> flat_numbers(const ParamValue& v, const std::string& what, std::size_t group) const {
+        if (!v.is_array()) wrong_type(v, what, "a flat array of numbers");
+        if (v.items().size() % group != 0)
+            fail(v.pos(), what + " has " + std::to_string(v.items().size()) + " numbers; expected a multiple of " +
+                              std::to_string(group));
+        std::vector<double> out;
+        out.reserve(v.items().size());
+        for (const ParamValue& x : v.items()) {
+            out.push_back(number(x, "an element of " + what));
+            if (!std::isfinite(out.back())) fail(x.pos(), what + " has " + number_text(out.back()) + "; expected finite numbers");
+        }
+        return out;
+    }
+
+    /// The mesh given in the scene: "positions" (x y z per vertex), "indices" (three per
+    /// triangle), optional "normals" and "uv" per vertex; the data a PLY file gives.
+    PlyMesh inline_mesh(const ParamValue& v, const ParamValue& positions, const std::string& what) const {
+        PlyMesh mesh;
+        const std::vector<double> p = flat_numbers(positions, what + " positions", 3);
+        const std::size_t n = p.size() / 3;
+        for (std::size_t i = 0; i < n; ++i)
+            mesh.positions.emplace_back(static_cast<float>(p[3 * i]), static_cast<float>(p[3 * i + 1]), static_cast<float>(p[3 * i + 2]));
+        auto per_vertex = [&](const char* key, std::size_t group) {
+            const ParamValue* a = v.find(key);
+            if (!a) return std::vector<double>{};
+            std::vector<double> x = flat_numbers(*a, what + " " + key, group);
+            if (x.size() != group * n)
+                fail(a->pos(), what + " " + key + " has " + std::to_string(x.size()) + " numbers; expected " +
+                                   std::to_string(group) + " per vertex (" + std::to_string(group * n) + ")");
+            return x;
+        };
+        const std::vector<double> normals = per_vertex("normals", 3), uv = per_vertex("uv", 2);
+        for (std::size_t i = 0; i < normals.size() / 3; ++i)
+            mesh.normals.emplace_back(static_cast<float>(normals[3 * i]), static_cast<float>(normals[3 * i + 1]),
+                                      static_cast<float>(normals[3 * i + 2]));
+        for (std::size_t i = 0; i < uv.size() / 2; ++i)
+            mesh.uvs.push_back({static_cast<float>(uv[2 * i]), static_cast<float>(uv[2 * i + 1])});
+        const ParamValue& iv = required(v, "indices", what);
+        const std::vector<double> indices = flat_numbers(iv, what + " indices", 3);
+        for (std::size_t t = 0; t < indices.size() / 3; ++t) {
+            std::array<std::uint32_t, 3> tri{};
+            for (std::size_t k = 0; k < 3; ++k) {
+                const double x = indices[3 * t + k];
+                if (x != std::floor(x) || x < 0 || x >= static_cast<double>(n))
+                    fail(iv.items()[3 * t + k].pos(), what + " indices: triangle " + std::to_string(t) + " has the index " +
+                                                          number_text(x) + "; expected an integer from 0 to below the vertex count, " +
+                                                          std::to_string(n));
+                tri[k] = static_cast<std::uint32_t>(x);
+            }
+            mesh.triangles.push_back(tri);
+        }
+        return mesh;
+    }
+
     void add_triangle(const Vec3& a, const Vec3& b, const Vec3& c, Surface surface, SourcePos pos,
                       const std::string& what) {
         Triangle t{a, b, c, surface.material};
@@ -642,8 +707,14 @@ private:
                        c = point(vs.items()[2], what + " vertex");
             add_triangle(a, b, c, shape_surface(v, what, ShapeKind::triangle), v.pos(), what);
         } else if (type == "mesh") {
-            const ParamValue& fv = required(v, "file", what);
-            const std::string& file = string(fv, what + " file");
+            const ParamValue* file = v.find("file");
+            const ParamValue* positions = v.find("positions");
+            if (file && positions) fail(positions->pos(), what + " has both \"file\" and \"positions\"; expected one of them");
+            if (!file && !positions) {
+                misspelt(v, what, {"file", "positions"});
+                fail(v.pos(), what + " has neither \"file\" nor \"positions\"; expected one of them");
+            }
+            const ParamValue& fv = file ? *file : *positions;
             // Instances: the triangles are kept once, in the file's space, and placed by each
             // transform (two-level BVH); otherwise they are transformed into the scene's list.
             const ParamValue* instances = v.find("instances");
@@ -657,11 +728,8 @@ private:
                 fail(instances->pos(), what + " emits light and has instances; expected a non-emitting material (an emitter is one mesh per placement)");
             std::vector<Triangle> object_triangles;
             std::vector<Triangle>& target = instances ? object_triangles : m_scene.triangles;
-            std::string contents, display, error;
-            if (file.empty() || !m_read_relative(file, contents, display, error))
-                fail(fv.pos(), "cannot read mesh " + quote_text(file) + (error.empty() ? "" : ": " + error) +
-                                   "; expected a PLY file path relative to the scene file");
-            const PlyMesh mesh = parse_ply(contents, display);
+            std::string display = "inline mesh";
+            const PlyMesh mesh = file ? ply_mesh(*file, what, display) : inline_mesh(v, *positions, what);
             std::vector<Vec3> p;
             p.reserve(mesh.positions.size());
             for (const Vec3& x : mesh.positions) {
