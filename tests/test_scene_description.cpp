@@ -293,7 +293,7 @@ const std::vector<Entity> kEntities = {
     {"shapes", R"({"type": "cone", "base": [0, 0, 0], "axis": [0, 1, 0], "radius": 1, "height": 1, "material": "m"})", {"base", "axis", "radius", "height"}},
     {"shapes", R"({"type": "disk", "center": [0, 0, 0], "normal": [0, 1, 0], "radius": 1, "emission": 1})", {"center", "normal", "radius"}},
     {"shapes", R"({"type": "plane", "normal": [0, 1, 0], "point": [0, 0, 0], "material": "m"})", {"normal", "point"}},
-    {"shapes", R"({"type": "mesh", "positions": [0, 0, 0, 1, 0, 0, 0, 1, 0], "indices": [0, 1, 2], "normals": [0, 0, 1, 0, 0, 1, 0, 0, 1], "uv": [0, 0, 1, 0, 0, 1], "transform": {"scale": 2}, "material": "m"})", {"indices"}},
+    {"shapes", R"({"type": "mesh", "positions": [0, 0, 0, 1, 0, 0, 0, 1, 0], "indices": [0, 1, 2], "normals": [0, 0, 1, 0, 0, 1, 0, 0, 1], "uv": [0, 0, 1, 0, 0, 1], "transform": {"matrix": [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1]}, "material": "m"})", {"indices"}},
     {"lights", R"({"type": "point", "position": [0, 1, 0], "intensity": 1, "motion": {"keyframes": [{"time": 0}, {"time": 1, "translate": [0, 0, 1]}]}})", {"position", "intensity"}},
     {"lights", R"({"type": "spot", "position": [0, 1, 0], "direction": [0, -1, 0], "intensity": 1, "cone_degrees": 30, "falloff_degrees": 20})", {"position", "direction", "intensity", "cone_degrees"}},
     {"media", R"({"type": "homogeneous", "sigma_a": 0.1, "sigma_s": 0.2, "scale": 1, "g": 0.5})", {"sigma_a", "sigma_s"}},

@@ -267,6 +267,66 @@ void expect_same_triangles(const Scene& a, const Scene& b, float tolerance) {
         }
 }
 
+Scene quad_under(const std::string& transform) {
+    return load(scene_json("\"m\": {\"kd\": 0.5}", "{\"type\": \"quad\", \"origin\": [0.5, -1, 2], \"edge1\": [1, 0.25, 0], "
+                                                   "\"edge2\": [0, 1, -0.5], \"material\": \"m\", \"transform\": " + transform + "}"));
+}
+
+TEST(SceneLoader, MatrixTransformEqualsScaleRotateTranslate) {
+    // Rz(90°)·diag(2, 0.5, 1.5), then the translation (0.3, −0.2, 0.1), row-major.
+    expect_same_triangles(
+        quad_under(R"({"scale": [2, 0.5, 1.5], "rotate": {"axis": [0, 0, 1], "degrees": 90}, "translate": [0.3, -0.2, 0.1]})"),
+        quad_under(R"({"matrix": [0, -0.5, 0, 0.3,  2, 0, 0, -0.2,  0, 0, 1.5, 0.1,  0, 0, 0, 1]})"), 1e-6f);
+    // A rotation about another axis: Rx(90°) maps y to z.
+    expect_same_triangles(quad_under(R"({"rotate": {"axis": [1, 0, 0], "degrees": 90}})"),
+                          quad_under(R"({"matrix": [1, 0, 0, 0,  0, 0, -1, 0,  0, 1, 0, 0,  0, 0, 0, 1]})"), 1e-6f);
+    // Not the transpose (the translation is in the last column).
+    const Scene moved = quad_under(R"({"matrix": [1, 0, 0, 5,  0, 1, 0, 0,  0, 0, 1, 0,  0, 0, 0, 1]})");
+    EXPECT_EQ(moved.triangles[0].p0, Vec3(5.5f, -1, 2));
+}
+
+/// A closed tetrahedron, faces counter-clockwise seen from outside, with vertex normals.
+const std::string kTetrahedron =
+    R"("positions": [0, 0, 0,  1, 0, 0,  0, 1, 0,  0, 0, 1], "indices": [0, 2, 1,  0, 1, 3,  0, 3, 2,  1, 2, 3],
+       "normals": [-1, -1, -1,  1, 0, 0,  0, 1, 0,  0, 0, 1])";
+
+TEST(SceneLoader, MirroringMatrixMirrorsAsAMirroringScale) {
+    auto glass_tetrahedron = [](const std::string& transform) {
+        return load(scene_json("\"g\": {\"kt\": 1, \"ior\": 1.5}",
+                               "{\"type\": \"mesh\", " + kTetrahedron + ", \"material\": \"g\", \"transform\": " + transform + "}"));
+    };
+    const Scene scaled = glass_tetrahedron(R"({"scale": [-1.25, 1.25, 1.25], "translate": [1, 2, 3]})");
+    const Scene matrix = glass_tetrahedron(R"({"matrix": [-1.25, 0, 0, 1,  0, 1.25, 0, 2,  0, 0, 1.25, 3,  0, 0, 0, 1]})");
+    expect_same_triangles(scaled, matrix, 0);
+    ASSERT_EQ(scaled.triangle_attributes.size(), matrix.triangle_attributes.size());
+    for (std::size_t i = 0; i < scaled.triangle_attributes.size(); ++i)
+        for (int k = 0; k < 3; ++k) EXPECT_EQ(scaled.triangle_attributes[i].n[k], matrix.triangle_attributes[i].n[k]);
+    // Mirrored, the closed mesh's faces point inward: both warn, the unmirrored one does not.
+    for (const Scene* s : {&scaled, &matrix}) {
+        ASSERT_EQ(s->warnings.size(), 1u);
+        EXPECT_NE(s->warnings[0].find("faces pointing inward"), std::string::npos) << s->warnings[0];
+    }
+    EXPECT_TRUE(glass_tetrahedron(R"({"matrix": [1.25, 0, 0, 1,  0, 1.25, 0, 2,  0, 0, 1.25, 3,  0, 0, 0, 1]})").warnings.empty());
+}
+
+TEST(SceneLoader, MatrixErrorsAreLocated) {
+    auto quad = [](const std::string& transform) {
+        return scene_json("\"m\": {\"kd\": 0.5}", "{\"type\": \"quad\", \"origin\": [0, 0, 0], \"edge1\": [1, 0, 0], "
+                                                  "\"edge2\": [0, 1, 0], \"material\": \"m\", \"transform\": " + transform + "}");
+    };
+    expect_error_at(quad(R"({"matrix": [1, 0, 0, 0,  0, 1, 0, 0,  0, 0, 1, 0,  0, 0.5, 0, 1]})"), "[1, 0, 0, 0,", "not an affine map; expected [0, 0, 0, 1]");
+    expect_error_at(quad(R"({"matrix": [1, 0, 0, 0,  0, 1, 0, 0,  0, 0, 1, 0,  0, 0, 0, 2]})"), "[1, 0, 0, 0,", "not an affine map");
+    expect_error_at(quad(R"({"matrix": [1, 2, 3, 0,  2, 4, 6, 0,  0, 0, 1, 0,  0, 0, 0, 1]})"), "[1, 2", "singular");
+    expect_error_at(quad(R"({"matrix": [1e9, 0, 0, 0,  0, 1e-9, 0, 0,  0, 0, 1e-9, 0,  0, 0, 0, 1]})"), "[1e9", "singular");
+    expect_error_at(quad(R"({"matrix": [1, 0, 0, 0,  0, 1, 0, 0,  0, 0, 1, 0]})"), "[1, 0, 0, 0,", "expected an array of 16 numbers");
+    expect_error_at(quad(R"({"matrix": [1, 0, 0, 0,  0, 1, 0, 0,  0, 0, 1, 0,  0, 0, 0, 1], "scale": 2})"), "2}",
+                    "transform has both \"matrix\" and \"scale\"");
+    expect_error_at(quad(R"({"translate": [1, 2, 3], "matrix": [1, 0, 0, 0,  0, 1, 0, 0,  0, 0, 1, 0,  0, 0, 0, 1]})"), "[1, 2, 3]",
+                    "transform has both \"matrix\" and \"translate\"");
+    // A small but well-conditioned matrix is not singular.
+    EXPECT_EQ(error_of(quad(R"({"matrix": [1e-7, 0, 0, 0,  0, 1e-7, 0, 0,  0, 0, 1e-7, 0,  0, 0, 0, 1]})")), "(no error)");
+}
+
 const std::string kQuadPly =
     "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
     "property float nx\nproperty float ny\nproperty float nz\nproperty float u\nproperty float v\n"

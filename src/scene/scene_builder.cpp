@@ -447,11 +447,43 @@ private:
         return {static_cast<float>(out[0] / len), static_cast<float>(out[1] / len), static_cast<float>(out[2] / len)};
     }
 
-    /// Scale, then rotate about an axis through the origin, then translate.
+    /// "matrix": 16 numbers, a 4×4 row-major matrix acting on column vectors [x y z 1]ᵀ: an
+    /// affine map (last row 0 0 0 1) whose 3×3 part is invertible.
+    AffineMap matrix(const ParamValue& v) const {
+        const std::vector<double> m = numbers(v, "transform matrix", 16);
+        for (double x : m)
+            if (!std::isfinite(x)) fail(v.pos(), "transform matrix has the element " + number_text(x) + "; expected finite numbers");
+        if (m[12] != 0 || m[13] != 0 || m[14] != 0 || m[15] != 1)
+            fail(v.pos(), "transform matrix has the last row [" + number_text(m[12]) + ", " + number_text(m[13]) + ", " +
+                              number_text(m[14]) + ", " + number_text(m[15]) +
+                              "]: not an affine map; expected [0, 0, 0, 1] (projective maps are not supported)");
+        AffineMap tr;
+        double size = 0;
+        for (int i = 0; i < 3; ++i)
+            for (int j = 0; j < 4; ++j) {
+                tr.a[i][j] = m[static_cast<std::size_t>(4 * i + j)];
+                if (j < 3) size = std::max(size, std::fabs(tr.a[i][j]));
+            }
+        if (!(std::fabs(tr.determinant()) > 1e-12 * size * size * size))
+            fail(v.pos(), "transform matrix is singular (its 3x3 part has determinant " + number_text(tr.determinant()) +
+                              "); expected an invertible map");
+        return tr;
+    }
+
+    /// Scale, then rotate about an axis through the origin, then translate; or a "matrix".
     AffineMap transform(const ParamValue* v) const {
         AffineMap tr;
         if (!v) return tr;
         object(*v, "transform");
+        if (const ParamValue* m = v->find("matrix")) {
+            for (const char* key : {"scale", "rotate", "translate"})
+                if (const ParamValue* other = v->find(key))
+                    fail(other->pos(), std::string("transform has both \"matrix\" and \"") + key +
+                                           "\"; expected one of them (a matrix is the whole map)");
+            tr = matrix(*m);
+            all_read(*v, "transform");
+            return tr;
+        }
         double s[3] = {1, 1, 1};
         if (const ParamValue* sv = v->find("scale")) {
             if (sv->is_number()) {
