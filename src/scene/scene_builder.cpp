@@ -85,8 +85,9 @@ private:
         c.position = point(required(v, "position", "camera"), "camera position");
         c.look_at = point(required(v, "look_at", "camera"), "camera look_at");
         if (const ParamValue* up = v.find("up")) c.up = direction(*up, "camera up");
-        if (const ParamValue* fov = v.find("vfov_degrees"))
-            c.vfov_degrees = static_cast<float>(number_in(*fov, "camera vfov_degrees", 0, 179.9, true));
+        field_of_view(v);
+        if (const ParamValue* h = v.find("handedness"))
+            c.left_handed = choice(*h, "camera handedness", {"right", "left"}) == 1;
         const Vec3 forward = c.look_at - c.position;
         if (!(length(forward) > 0.f)) fail(v.pos(), "camera look_at equals its position; expected a point to look at");
         if (!(length(cross(normalize(forward), normalize(c.up))) > 1e-6f))
@@ -101,6 +102,32 @@ private:
             c.shutter_close = static_cast<float>(t[1]);
         }
         all_read(v, "camera");
+    }
+
+    /// "vfov_degrees": F, or "fov_degrees": F with "fov_axis" (default vertical): the image
+    /// axis is resolved where the camera meets the rendered size (Camera), as width and height
+    /// may still change.
+    void field_of_view(const ParamValue& v) {
+        CameraSpec& c = m_scene.camera;
+        const ParamValue* vfov = v.find("vfov_degrees");
+        const ParamValue* fov = v.find("fov_degrees");
+        const ParamValue* axis = v.find("fov_axis");
+        if (vfov && fov) fail(fov->pos(), "camera has both vfov_degrees and fov_degrees; expected one of them");
+        if (axis && !fov) fail(axis->pos(), "camera fov_axis goes with fov_degrees; expected \"fov_degrees\" too");
+        if (vfov || fov)
+            c.fov_degrees = static_cast<float>(number_in(vfov ? *vfov : *fov, vfov ? "camera vfov_degrees" : "camera fov_degrees",
+                                                         0, 179.9, true));
+        if (axis)
+            c.fov_axis = static_cast<FovAxis>(choice(*axis, "camera fov_axis", {"vertical", "horizontal", "smaller", "larger"}));
+    }
+
+    /// The index of the string `v` among `names`; an error listing them otherwise.
+    int choice(const ParamValue& v, const std::string& what, const std::vector<std::string>& names) const {
+        const std::string& name = string(v, what);
+        for (std::size_t i = 0; i < names.size(); ++i)
+            if (names[i] == name) return static_cast<int>(i);
+        fail(v.pos(), "unknown " + what + " " + quote_text(name) + "." + suggestion(name, names) +
+                          " Expected " + quoted_alternatives(names));
     }
 
     /// "motion": {"keyframes": [{"time": t, "translate": [x, y, z], "rotate": {"axis":
