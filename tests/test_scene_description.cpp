@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdint>
+#include <limits>
 #include <map>
 #include <set>
 #include <string>
@@ -76,6 +77,43 @@ TEST(SceneDescription, JsonReaderKeepsEveryPosition) {
     ASSERT_TRUE(radius && radius->is_number());
     EXPECT_EQ(radius->as_number(), 2.0);
     EXPECT_EQ(radius->pos().column, 16);
+}
+
+/// The error of building a scene of camera, material "m" and the one shape `shape`, in code.
+std::string shape_error(ParamValue shape) {
+    SceneDescription d = sphere_scene(ParamValue::number(1));
+    d.root.set("shapes", ParamValue::list({std::move(shape)}));
+    try {
+        build_scene(d, SpectralResolution{}, kNoFiles);
+    } catch (const LocatedError& e) {
+        return std::to_string(e.pos().line) + ":" + std::to_string(e.pos().column) + ": " + e.message();
+    }
+    return "(no error)";
+}
+
+TEST(SceneDescription, NonFiniteNumbersAReaderGivesAreRefusedWhereTheyAre) {
+    // JSON has no infinities, but other readers' numbers may overflow: each is refused at its
+    // own position.
+    const double inf = std::numeric_limits<double>::infinity(), nan = std::numeric_limits<double>::quiet_NaN();
+    auto mesh = [](ParamValue positions, ParamValue transform) {
+        return ParamValue::dict({{"type", ParamValue::string("mesh")}, {"positions", std::move(positions)},
+                                 {"indices", ParamValue::numbers({0, 1, 2})}, {"material", ParamValue::string("m")},
+                                 {"transform", std::move(transform)}});
+    };
+    const ParamValue identity = ParamValue::dict({{"scale", ParamValue::number(1)}});
+    EXPECT_EQ(shape_error(mesh(ParamValue::numbers({0, 0, 0, 1, 0, 0, 0, 1, 0}), identity)), "(no error)");
+    std::vector<ParamValue> p;
+    for (int i = 0; i < 9; ++i) p.push_back(ParamValue::number(i == 4 ? nan : (i == 3 || i == 7) ? 1 : 0, {4, 10 + i}));
+    EXPECT_EQ(shape_error(mesh(ParamValue::list(std::move(p)), identity)).rfind("4:14: mesh (shape 0) positions has nan; expected finite numbers", 0), 0u);
+    const ParamValue matrix = ParamValue::dict({{"matrix", ParamValue::numbers({1, 0, 0, inf, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1}, {6, 2})}});
+    EXPECT_NE(shape_error(mesh(ParamValue::numbers({0, 0, 0, 1, 0, 0, 0, 1, 0}), matrix)).find("6:2: transform matrix has the element inf"),
+              std::string::npos);
+    ParamValue emitter = ParamValue::dict({{"type", ParamValue::string("sphere")}, {"center", ParamValue::vec3({0, 0, 0})},
+                                           {"radius", ParamValue::number(1)},
+                                           {"emission", ParamValue::dict({{"type", ParamValue::string("normalized")},
+                                                                          {"spectrum", ParamValue::number(1)},
+                                                                          {"luminance", ParamValue::number(inf, {8, 3})}})}});
+    EXPECT_NE(shape_error(std::move(emitter)).find("8:3: sphere (shape 0) emission (normalized) luminance is inf"), std::string::npos);
 }
 
 TEST(SceneDescription, EachPositionNamesItsOwnFile) {
