@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdint>
+#include <limits>
 #include <map>
 #include <set>
 #include <string>
@@ -76,6 +77,43 @@ TEST(SceneDescription, JsonReaderKeepsEveryPosition) {
     ASSERT_TRUE(radius && radius->is_number());
     EXPECT_EQ(radius->as_number(), 2.0);
     EXPECT_EQ(radius->pos().column, 16);
+}
+
+/// The error of building a scene of camera, material "m" and the one shape `shape`, in code.
+std::string shape_error(ParamValue shape) {
+    SceneDescription d = sphere_scene(ParamValue::number(1));
+    d.root.set("shapes", ParamValue::list({std::move(shape)}));
+    try {
+        build_scene(d, SpectralResolution{}, kNoFiles);
+    } catch (const LocatedError& e) {
+        return std::to_string(e.pos().line) + ":" + std::to_string(e.pos().column) + ": " + e.message();
+    }
+    return "(no error)";
+}
+
+TEST(SceneDescription, NonFiniteNumbersAReaderGivesAreRefusedWhereTheyAre) {
+    // JSON has no infinities, but other readers' numbers may overflow: each is refused at its
+    // own position.
+    const double inf = std::numeric_limits<double>::infinity(), nan = std::numeric_limits<double>::quiet_NaN();
+    auto mesh = [](ParamValue positions, ParamValue transform) {
+        return ParamValue::dict({{"type", ParamValue::string("mesh")}, {"positions", std::move(positions)},
+                                 {"indices", ParamValue::numbers({0, 1, 2})}, {"material", ParamValue::string("m")},
+                                 {"transform", std::move(transform)}});
+    };
+    const ParamValue identity = ParamValue::dict({{"scale", ParamValue::number(1)}});
+    EXPECT_EQ(shape_error(mesh(ParamValue::numbers({0, 0, 0, 1, 0, 0, 0, 1, 0}), identity)), "(no error)");
+    std::vector<ParamValue> p;
+    for (int i = 0; i < 9; ++i) p.push_back(ParamValue::number(i == 4 ? nan : (i == 3 || i == 7) ? 1 : 0, {4, 10 + i}));
+    EXPECT_EQ(shape_error(mesh(ParamValue::list(std::move(p)), identity)).rfind("4:14: mesh (shape 0) positions has nan; expected finite numbers", 0), 0u);
+    const ParamValue matrix = ParamValue::dict({{"matrix", ParamValue::numbers({1, 0, 0, inf, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1}, {6, 2})}});
+    EXPECT_NE(shape_error(mesh(ParamValue::numbers({0, 0, 0, 1, 0, 0, 0, 1, 0}), matrix)).find("6:2: transform matrix has the element inf"),
+              std::string::npos);
+    ParamValue emitter = ParamValue::dict({{"type", ParamValue::string("sphere")}, {"center", ParamValue::vec3({0, 0, 0})},
+                                           {"radius", ParamValue::number(1)},
+                                           {"emission", ParamValue::dict({{"type", ParamValue::string("normalized")},
+                                                                          {"spectrum", ParamValue::number(1)},
+                                                                          {"luminance", ParamValue::number(inf, {8, 3})}})}});
+    EXPECT_NE(shape_error(std::move(emitter)).find("8:3: sphere (shape 0) emission (normalized) luminance is inf"), std::string::npos);
 }
 
 TEST(SceneDescription, EachPositionNamesItsOwnFile) {
@@ -293,6 +331,7 @@ const std::vector<Entity> kEntities = {
     {"shapes", R"({"type": "cone", "base": [0, 0, 0], "axis": [0, 1, 0], "radius": 1, "height": 1, "material": "m"})", {"base", "axis", "radius", "height"}},
     {"shapes", R"({"type": "disk", "center": [0, 0, 0], "normal": [0, 1, 0], "radius": 1, "emission": 1})", {"center", "normal", "radius"}},
     {"shapes", R"({"type": "plane", "normal": [0, 1, 0], "point": [0, 0, 0], "material": "m"})", {"normal", "point"}},
+    {"shapes", R"({"type": "mesh", "positions": [0, 0, 0, 1, 0, 0, 0, 1, 0], "indices": [0, 1, 2], "normals": [0, 0, 1, 0, 0, 1, 0, 0, 1], "uv": [0, 0, 1, 0, 0, 1], "transform": {"matrix": [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1]}, "material": "m"})", {"indices"}},
     {"lights", R"({"type": "point", "position": [0, 1, 0], "intensity": 1, "motion": {"keyframes": [{"time": 0}, {"time": 1, "translate": [0, 0, 1]}]}})", {"position", "intensity"}},
     {"lights", R"({"type": "spot", "position": [0, 1, 0], "direction": [0, -1, 0], "intensity": 1, "cone_degrees": 30, "falloff_degrees": 20})", {"position", "direction", "intensity", "cone_degrees"}},
     {"media", R"({"type": "homogeneous", "sigma_a": 0.1, "sigma_s": 0.2, "scale": 1, "g": 0.5})", {"sigma_a", "sigma_s"}},

@@ -1,5 +1,5 @@
-// Camera: position, look-at point, up vector and vertical field of view; a pinhole, or a thin
-// lens (an aperture focused at a distance: depth of field).
+// Camera: position, look-at point, up vector, field of view along one image axis and
+// handedness; a pinhole, or a thin lens (an aperture focused at a distance: depth of field).
 #pragma once
 #include <cmath>
 
@@ -9,16 +9,25 @@
 
 namespace spt {
 
+/// The image axis a field of view spans: smaller and larger are the image's shorter and longer
+/// sides (pbrt-v4's "fov" is along the shorter one), so they depend on the rendered size.
+enum class FovAxis { vertical, horizontal, smaller, larger };
+
 struct CameraSpec {
     CameraSpec() = default;
     /// A pinhole (the lens is set by its fields).
     CameraSpec(const Vec3& position_, const Vec3& look_at_, const Vec3& up_, float vfov_degrees_)
-        : position(position_), look_at(look_at_), up(up_), vfov_degrees(vfov_degrees_) {}
+        : position(position_), look_at(look_at_), up(up_), fov_degrees(vfov_degrees_) {}
 
     Vec3 position{0, 0, 3.5f};
     Vec3 look_at{0, 0, 0};
     Vec3 up{0, 1, 0};
-    float vfov_degrees = 40.f;
+    /// Field of view along fov_axis of the image rendered.
+    float fov_degrees = 40.f;
+    FovAxis fov_axis = FovAxis::vertical;
+    /// Image right = up × forward (pbrt-v4's camera space) instead of forward × up: the
+    /// mirror image.
+    bool left_handed = false;
     /// Thin lens: radius 0 is the pinhole. Points at focus_distance along the view axis
     /// (a plane parallel to the image) are sharp; others blur into the aperture's shape.
     Aperture aperture;
@@ -36,10 +45,17 @@ public:
           m_shutter_open(spec.shutter_open), m_shutter_span(spec.shutter_close - spec.shutter_open),
           m_motion_blur(motion_blur) {
         const Vec3 forward = normalize(spec.look_at - spec.position);
-        const Vec3 right = normalize(cross(forward, spec.up));
-        const Vec3 true_up = cross(right, forward);
-        const float half_h = std::tan(0.5f * spec.vfov_degrees * kPi / 180.f);
-        const float half_w = half_h * static_cast<float>(width) / static_cast<float>(height);
+        const Vec3 right_handed = normalize(cross(forward, spec.up));
+        const Vec3 true_up = cross(right_handed, forward);
+        const Vec3 right = spec.left_handed ? -right_handed : right_handed;
+        const FovAxis axis = spec.fov_axis == FovAxis::smaller  ? (width < height ? FovAxis::horizontal : FovAxis::vertical)
+                             : spec.fov_axis == FovAxis::larger ? (width > height ? FovAxis::horizontal : FovAxis::vertical)
+                                                                : spec.fov_axis;
+        const float half_fov = std::tan(0.5f * spec.fov_degrees * kPi / 180.f);
+        const float half_h =
+            axis == FovAxis::vertical ? half_fov : half_fov * static_cast<float>(height) / static_cast<float>(width);
+        const float half_w =
+            axis == FovAxis::vertical ? half_h * static_cast<float>(width) / static_cast<float>(height) : half_fov;
         m_forward = forward;
         m_right = right * (2.f * half_w / static_cast<float>(width));
         m_down = true_up * (-2.f * half_h / static_cast<float>(height));

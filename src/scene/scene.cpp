@@ -338,7 +338,7 @@ void Scene::validate_camera() {
             "camera vectors must be finite");
     require(length(cross(camera.look_at - camera.position, camera.up)) > 0.f,
             "camera up vector must not be parallel to the viewing direction");
-    require(camera.vfov_degrees > 0.f && camera.vfov_degrees < 180.f,
+    require(camera.fov_degrees > 0.f && camera.fov_degrees < 180.f,
             "camera field of view must be in (0, 180) degrees");
     const Aperture& aperture = camera.aperture;
     require(std::isfinite(aperture.radius) && aperture.radius >= 0.f, "camera aperture radius must be finite and >= 0");

@@ -85,8 +85,9 @@ private:
         c.position = point(required(v, "position", "camera"), "camera position");
         c.look_at = point(required(v, "look_at", "camera"), "camera look_at");
         if (const ParamValue* up = v.find("up")) c.up = direction(*up, "camera up");
-        if (const ParamValue* fov = v.find("vfov_degrees"))
-            c.vfov_degrees = static_cast<float>(number_in(*fov, "camera vfov_degrees", 0, 179.9, true));
+        field_of_view(v);
+        if (const ParamValue* h = v.find("handedness"))
+            c.left_handed = choice(*h, "camera handedness", {"right", "left"}) == 1;
         const Vec3 forward = c.look_at - c.position;
         if (!(length(forward) > 0.f)) fail(v.pos(), "camera look_at equals its position; expected a point to look at");
         if (!(length(cross(normalize(forward), normalize(c.up))) > 1e-6f))
@@ -101,6 +102,32 @@ private:
             c.shutter_close = static_cast<float>(t[1]);
         }
         all_read(v, "camera");
+    }
+
+    /// "vfov_degrees": F, or "fov_degrees": F with "fov_axis" (default vertical): the image
+    /// axis is resolved where the camera meets the rendered size (Camera), as width and height
+    /// may still change.
+    void field_of_view(const ParamValue& v) {
+        CameraSpec& c = m_scene.camera;
+        const ParamValue* vfov = v.find("vfov_degrees");
+        const ParamValue* fov = v.find("fov_degrees");
+        const ParamValue* axis = v.find("fov_axis");
+        if (vfov && fov) fail(fov->pos(), "camera has both vfov_degrees and fov_degrees; expected one of them");
+        if (axis && !fov) fail(axis->pos(), "camera fov_axis goes with fov_degrees; expected \"fov_degrees\" too");
+        if (vfov || fov)
+            c.fov_degrees = static_cast<float>(number_in(vfov ? *vfov : *fov, vfov ? "camera vfov_degrees" : "camera fov_degrees",
+                                                         0, 179.9, true));
+        if (axis)
+            c.fov_axis = static_cast<FovAxis>(choice(*axis, "camera fov_axis", {"vertical", "horizontal", "smaller", "larger"}));
+    }
+
+    /// The index of the string `v` among `names`; an error listing them otherwise.
+    int choice(const ParamValue& v, const std::string& what, const std::vector<std::string>& names) const {
+        const std::string& name = string(v, what);
+        for (std::size_t i = 0; i < names.size(); ++i)
+            if (names[i] == name) return static_cast<int>(i);
+        fail(v.pos(), "unknown " + what + " " + quote_text(name) + "." + suggestion(name, names) +
+                          " Expected " + quoted_alternatives(names));
     }
 
     /// "motion": {"keyframes": [{"time": t, "translate": [x, y, z], "rotate": {"axis":
@@ -447,11 +474,43 @@ private:
         return {static_cast<float>(out[0] / len), static_cast<float>(out[1] / len), static_cast<float>(out[2] / len)};
     }
 
-    /// Scale, then rotate about an axis through the origin, then translate.
+    /// "matrix": 16 numbers, a 4×4 row-major matrix acting on column vectors [x y z 1]ᵀ: an
+    /// affine map (last row 0 0 0 1) whose 3×3 part is invertible.
+    AffineMap matrix(const ParamValue& v) const {
+        const std::vector<double> m = numbers(v, "transform matrix", 16);
+        for (double x : m)
+            if (!std::isfinite(x)) fail(v.pos(), "transform matrix has the element " + number_text(x) + "; expected finite numbers");
+        if (m[12] != 0 || m[13] != 0 || m[14] != 0 || m[15] != 1)
+            fail(v.pos(), "transform matrix has the last row [" + number_text(m[12]) + ", " + number_text(m[13]) + ", " +
+                              number_text(m[14]) + ", " + number_text(m[15]) +
+                              "]: not an affine map; expected [0, 0, 0, 1] (projective maps are not supported)");
+        AffineMap tr;
+        double size = 0;
+        for (int i = 0; i < 3; ++i)
+            for (int j = 0; j < 4; ++j) {
+                tr.a[i][j] = m[static_cast<std::size_t>(4 * i + j)];
+                if (j < 3) size = std::max(size, std::fabs(tr.a[i][j]));
+            }
+        if (!(std::fabs(tr.determinant()) > 1e-12 * size * size * size))
+            fail(v.pos(), "transform matrix is singular (its 3x3 part has determinant " + number_text(tr.determinant()) +
+                              "); expected an invertible map");
+        return tr;
+    }
+
+    /// Scale, then rotate about an axis through the origin, then translate; or a "matrix".
     AffineMap transform(const ParamValue* v) const {
         AffineMap tr;
         if (!v) return tr;
         object(*v, "transform");
+        if (const ParamValue* m = v->find("matrix")) {
+            for (const char* key : {"scale", "rotate", "translate"})
+                if (const ParamValue* other = v->find(key))
+                    fail(other->pos(), std::string("transform has both \"matrix\" and \"") + key +
+                                           "\"; expected one of them (a matrix is the whole map)");
+            tr = matrix(*m);
+            all_read(*v, "transform");
+            return tr;
+        }
         double s[3] = {1, 1, 1};
         if (const ParamValue* sv = v->find("scale")) {
             if (sv->is_number()) {
@@ -486,6 +545,71 @@ private:
         }
         all_read(*v, "transform");
         return tr;
+    }
+
+    /// The mesh of the PLY file named by `v`; `display` becomes the file's name for messages.
+    PlyMesh ply_mesh(const ParamValue& v, const std::string& what, std::string& display) const {
+        const std::string& file = string(v, what + " file");
+        std::string contents, error;
+        if (file.empty() || !m_read_relative(file, contents, display, error))
+            fail(v.pos(), "cannot read mesh " + quote_text(file) + (error.empty() ? "" : ": " + error) +
+                              "; expected a PLY file path relative to the scene file");
+        return parse_ply(contents, display);
+    }
+
+    /// A flat array of finite numbers, a multiple of `group` long.
+    std::vector<double> flat_numbers(const ParamValue& v, const std::string& what, std::size_t group) const {
+        if (!v.is_array()) wrong_type(v, what, "a flat array of numbers");
+        if (v.items().size() % group != 0)
+            fail(v.pos(), what + " has " + std::to_string(v.items().size()) + " numbers; expected a multiple of " +
+                              std::to_string(group));
+        std::vector<double> out;
+        out.reserve(v.items().size());
+        for (const ParamValue& x : v.items()) {
+            out.push_back(number(x, "an element of " + what));
+            if (!std::isfinite(out.back())) fail(x.pos(), what + " has " + number_text(out.back()) + "; expected finite numbers");
+        }
+        return out;
+    }
+
+    /// The mesh given in the scene: "positions" (x y z per vertex), "indices" (three per
+    /// triangle), optional "normals" and "uv" per vertex; the data a PLY file gives.
+    PlyMesh inline_mesh(const ParamValue& v, const ParamValue& positions, const std::string& what) const {
+        PlyMesh mesh;
+        const std::vector<double> p = flat_numbers(positions, what + " positions", 3);
+        const std::size_t n = p.size() / 3;
+        for (std::size_t i = 0; i < n; ++i)
+            mesh.positions.emplace_back(static_cast<float>(p[3 * i]), static_cast<float>(p[3 * i + 1]), static_cast<float>(p[3 * i + 2]));
+        auto per_vertex = [&](const char* key, std::size_t group) {
+            const ParamValue* a = v.find(key);
+            if (!a) return std::vector<double>{};
+            std::vector<double> x = flat_numbers(*a, what + " " + key, group);
+            if (x.size() != group * n)
+                fail(a->pos(), what + " " + key + " has " + std::to_string(x.size()) + " numbers; expected " +
+                                   std::to_string(group) + " per vertex (" + std::to_string(group * n) + ")");
+            return x;
+        };
+        const std::vector<double> normals = per_vertex("normals", 3), uv = per_vertex("uv", 2);
+        for (std::size_t i = 0; i < normals.size() / 3; ++i)
+            mesh.normals.emplace_back(static_cast<float>(normals[3 * i]), static_cast<float>(normals[3 * i + 1]),
+                                      static_cast<float>(normals[3 * i + 2]));
+        for (std::size_t i = 0; i < uv.size() / 2; ++i)
+            mesh.uvs.push_back({static_cast<float>(uv[2 * i]), static_cast<float>(uv[2 * i + 1])});
+        const ParamValue& iv = required(v, "indices", what);
+        const std::vector<double> indices = flat_numbers(iv, what + " indices", 3);
+        for (std::size_t t = 0; t < indices.size() / 3; ++t) {
+            std::array<std::uint32_t, 3> tri{};
+            for (std::size_t k = 0; k < 3; ++k) {
+                const double x = indices[3 * t + k];
+                if (x != std::floor(x) || x < 0 || x >= static_cast<double>(n))
+                    fail(iv.items()[3 * t + k].pos(), what + " indices: triangle " + std::to_string(t) + " has the index " +
+                                                          number_text(x) + "; expected an integer from 0 to below the vertex count, " +
+                                                          std::to_string(n));
+                tri[k] = static_cast<std::uint32_t>(x);
+            }
+            mesh.triangles.push_back(tri);
+        }
+        return mesh;
     }
 
     void add_triangle(const Vec3& a, const Vec3& b, const Vec3& c, Surface surface, SourcePos pos,
@@ -642,8 +766,14 @@ private:
                        c = point(vs.items()[2], what + " vertex");
             add_triangle(a, b, c, shape_surface(v, what, ShapeKind::triangle), v.pos(), what);
         } else if (type == "mesh") {
-            const ParamValue& fv = required(v, "file", what);
-            const std::string& file = string(fv, what + " file");
+            const ParamValue* file = v.find("file");
+            const ParamValue* positions = v.find("positions");
+            if (file && positions) fail(positions->pos(), what + " has both \"file\" and \"positions\"; expected one of them");
+            if (!file && !positions) {
+                misspelt(v, what, {"file", "positions"});
+                fail(v.pos(), what + " has neither \"file\" nor \"positions\"; expected one of them");
+            }
+            const ParamValue& fv = file ? *file : *positions;
             // Instances: the triangles are kept once, in the file's space, and placed by each
             // transform (two-level BVH); otherwise they are transformed into the scene's list.
             const ParamValue* instances = v.find("instances");
@@ -657,11 +787,8 @@ private:
                 fail(instances->pos(), what + " emits light and has instances; expected a non-emitting material (an emitter is one mesh per placement)");
             std::vector<Triangle> object_triangles;
             std::vector<Triangle>& target = instances ? object_triangles : m_scene.triangles;
-            std::string contents, display, error;
-            if (file.empty() || !m_read_relative(file, contents, display, error))
-                fail(fv.pos(), "cannot read mesh " + quote_text(file) + (error.empty() ? "" : ": " + error) +
-                                   "; expected a PLY file path relative to the scene file");
-            const PlyMesh mesh = parse_ply(contents, display);
+            std::string display = "inline mesh";
+            const PlyMesh mesh = file ? ply_mesh(*file, what, display) : inline_mesh(v, *positions, what);
             std::vector<Vec3> p;
             p.reserve(mesh.positions.size());
             for (const Vec3& x : mesh.positions) {

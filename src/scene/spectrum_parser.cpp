@@ -5,6 +5,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "spectral/cie.h"
 #include "spectral/glass_catalog.h"
 #include "spectral/rgb_to_spectrum.h"
 
@@ -116,9 +117,31 @@ SpectrumSource SpectrumParser::spectrum_source(const ParamValue& v, const std::s
                                   " Expected one of: " + join(patches));
             return table_column(t, patch, opt("scale", 1));
         }
+        if (type == "product") {
+            const ParamValue& fs = required(v, "factors", w);
+            if (!fs.is_array() || fs.items().empty())
+                fail(fs.pos(), w + " factors is not a non-empty array; expected [SPECTRUM, ...]");
+            std::vector<SpectrumSource> factors;
+            for (const ParamValue& f : fs.items()) factors.push_back(spectrum_source(f, w + " factor"));
+            return SpectrumSource::product(std::move(factors), opt("scale", 1));
+        }
+        if (type == "normalized") {
+            const ParamValue& sv = required(v, "spectrum", w);
+            const ParamValue& yv = required(v, "luminance", w);
+            const SpectrumSource s = spectrum_source(sv, w + " spectrum");
+            const double y = number(yv, w + " luminance");
+            if (!(y >= 0) || !std::isfinite(y))
+                fail(yv.pos(), w + " luminance is " + number_text(y) + "; expected a finite number >= 0");
+            const double own = cie_luminance(s);
+            if (!(own > 0) || !std::isfinite(own))
+                fail(sv.pos(), w + " spectrum has luminance " + number_text(own) +
+                                   "; expected a spectrum of positive luminance to normalise");
+            return SpectrumSource::product({s}, y / own);
+        }
         const ParamValue& t = *v.find("type");
         const std::vector<std::string> types = {"constant", "gaussian", "sigmoid", "blackbody", "table", "cauchy",
-                                                "sellmeier", "glass", "rgb", "illuminant", "colorchecker"};
+                                                "sellmeier", "glass", "rgb", "illuminant", "colorchecker",
+                                                "product", "normalized"};
         fail(t.pos(), "unknown spectrum type " + quote_text(type) + "." + suggestion(type, types) +
                           " Expected one of: " + join(types));
     };

@@ -29,4 +29,15 @@ const Observer& Cie1931::get() {
     return instance;
 }
 
+double cie_luminance(const SpectrumSource& s) {
+    const SpectralTable& cmf = embedded_spectral_table("cie_1931_2deg.csv");
+    const std::vector<double>& ys = cmf.column("y_bar");
+    double sy = 0, y = 0;
+    for (std::size_t i = 0; i < ys.size(); ++i) {
+        sy += s.eval(cmf.wavelengths_nm[i]) * ys[i];
+        y += ys[i];
+    }
+    return sy / y;
+}
+
 }  // namespace spt

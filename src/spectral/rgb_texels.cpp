@@ -5,6 +5,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "spectral/cie.h"
 #include "spectral/rgb_to_spectrum.h"
 #include "spectral/spectral_table.h"
 #include "spectral/spectrum.h"
@@ -13,8 +14,7 @@ namespace spt {
 
 namespace {
 
-/// D65 as a source, and the factor that brings its luminance to 1 (Y = ∫D65·ȳ / ∫ȳ, the
-/// film's normalisation, summed at 1 nm over 360–830 nm).
+/// D65 as a source, and the factor that brings its luminance (cie_luminance) to 1.
 struct UnitD65 {
     SpectrumSource d65;
     double inv_y = 1;
@@ -30,13 +30,7 @@ private:
         std::vector<std::pair<double, double>> points;
         for (std::size_t i = 0; i < t.wavelengths_nm.size(); ++i) points.emplace_back(t.wavelengths_nm[i], t.column("value")[i]);
         d65 = SpectrumSource::piecewise_linear(std::move(points));
-        const SpectralTable& cmf = embedded_spectral_table("cie_1931_2deg.csv");
-        double dy = 0, y = 0;
-        for (std::size_t i = 0; i < cmf.wavelengths_nm.size(); ++i) {
-            dy += d65.eval(cmf.wavelengths_nm[i]) * cmf.column("y_bar")[i];
-            y += cmf.column("y_bar")[i];
-        }
-        inv_y = y / dy;
+        inv_y = 1.0 / cie_luminance(d65);
     }
 };
 

@@ -57,6 +57,14 @@ SpectrumSource SpectrumSource::rgb_sigmoid(double c0, double c1, double c2, doub
     return s;
 }
 
+SpectrumSource SpectrumSource::product(std::vector<SpectrumSource> factors, double scale) {
+    SpectrumSource s;
+    s.kind = Kind::Product;
+    s.p[0] = scale;
+    s.factors = std::move(factors);
+    return s;
+}
+
 double planck(double lambda_nm, double kelvin) {
     constexpr double c = 299792458.0, h = 6.62607015e-34, kb = 1.380649e-23;
     const double l = lambda_nm * 1e-9;
@@ -102,6 +110,11 @@ double SpectrumSource::eval(double lambda) const {
             const double x = (p[0] * t + p[1]) * t + p[2];
             return p[3] * (0.5 + x / (2.0 * std::sqrt(1.0 + x * x)));
         }
+        case Kind::Product: {
+            double v = p[0];
+            for (const SpectrumSource& f : factors) v *= f.eval(lambda);
+            return v;
+        }
     }
     return 0.0;
 }
@@ -116,6 +129,8 @@ bool SpectrumSource::is_constant() const {
             return std::all_of(table.begin(), table.end(),
                                [&](const auto& e) { return e.second == table.front().second; });
         case Kind::RgbSigmoid: return p[0] == 0.0 && p[1] == 0.0;
+        case Kind::Product:
+            return std::all_of(factors.begin(), factors.end(), [](const SpectrumSource& f) { return f.is_constant(); });
         default: return false;
     }
 }
@@ -131,6 +146,12 @@ std::string SpectrumSource::describe() const {
         case Kind::Cauchy: std::snprintf(buf, sizeof buf, "cauchy A=%g", p[0]); break;
         case Kind::Sellmeier: std::snprintf(buf, sizeof buf, "sellmeier B1=%g", p[0]); break;
         case Kind::RgbSigmoid: std::snprintf(buf, sizeof buf, "rgb sigmoid"); break;
+        case Kind::Product: {
+            std::string text = "product of (";
+            for (std::size_t i = 0; i < factors.size(); ++i) text += (i ? ", " : "") + factors[i].describe();
+            std::snprintf(buf, sizeof buf, ") times %g", p[0]);
+            return text + buf;
+        }
     }
     return buf;
 }

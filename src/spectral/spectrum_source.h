@@ -17,10 +17,12 @@ struct SpectrumSource {
         Cauchy,           ///< A + B/λ² + C/λ⁴, λ in µm
         Sellmeier,        ///< sqrt(1 + Σ Bᵢλ²/(λ² − Cᵢ)), λ in µm, Cᵢ in µm²
         RgbSigmoid,       ///< scale·s(c0·t² + c1·t + c2), s(x) = ½ + x/(2√(1+x²)), t = (λ−360)/470; see rgb_to_spectrum
+        Product,          ///< scale·Π factors(λ)
     };
     Kind kind = Kind::Constant;
     double p[6] = {0, 0, 0, 0, 0, 0};                ///< parameters, meaning set by kind
     std::vector<std::pair<double, double>> table;  ///< PiecewiseLinear (λ nm, value), sorted
+    std::vector<SpectrumSource> factors;           ///< Product (at least one)
 
     static SpectrumSource constant(double value);
     static SpectrumSource gaussian(double center_nm, double width_nm, double scale, double offset = 0);
@@ -30,6 +32,7 @@ struct SpectrumSource {
     static SpectrumSource cauchy(double a, double b_um2, double c_um4 = 0);
     static SpectrumSource sellmeier(double b1, double b2, double b3, double c1, double c2, double c3);
     static SpectrumSource rgb_sigmoid(double c0, double c1, double c2, double scale = 1);
+    static SpectrumSource product(std::vector<SpectrumSource> factors, double scale = 1);
 
     /// Exact value at λ (nm).
     double eval(double lambda_nm) const;
