@@ -174,7 +174,7 @@ int run(const spt::Options& opt) {
                                           "not binned); the scene file chooses ") +
                               spt::integrator_name(integrator.settings.kind) + ", add --integrator path");
     std::vector<std::string> outputs = opt.outputs;
-    if (outputs.empty()) outputs.push_back(scene->name + ".png");
+    if (outputs.empty()) outputs.push_back(scene->output.empty() ? scene->name + ".png" : scene->output);
     std::vector<std::string> warnings = scene->warnings;
     for (const std::string& w : spt::ineffective_flag_warnings(opt, integrator.settings, outputs, *scene))
         warnings.push_back(w);

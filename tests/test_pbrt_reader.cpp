@@ -171,7 +171,7 @@ TEST(PbrtReader, TwoSidedAreaLightsAndLightsWithoutASpectrumEmitD65) {
 
 TEST(PbrtReader, SpotLightsFollowTheTransformAndPbrtsFalloff) {
     const SceneDescription d = read("WorldBegin\nTranslate 0 1 0\nLightSource \"spot\" \"point3 from\" [0 0 0] "
-                                    "\"point3 to\" [0 -1 0] \"float coneangle\" 40 \"float conedelta\" 10\n");
+                                    "\"point3 to\" [0 -1 0] \"float coneangle\" 40 \"float conedeltaangle\" 10\n");
     const ParamValue& l = at(d.root, "lights").items().at(0);
     expect_near(numbers(at(l, "position")), {0, 1, 0});
     expect_near(numbers(at(l, "direction")), {0, -1, 0});
@@ -227,7 +227,7 @@ TEST(PbrtReader, IncludedFilesAreReadAndNamedInMessages) {
 TEST(PbrtReader, WhatIsNotSupportedIsALocatedWarningNeverSilence) {
     const SceneDescription d = read(
         "WorldBegin\nShape \"sphere\" \"float zmax\" 0.5 \"float frobnicate\" 1\n"
-        "Material \"hair\"\nLightSource \"goniometric\"\nPixelFilter \"gaussian\"\n");
+        "Material \"hair\"\nLightSource \"goniometric\"\nPixelFilter \"gaussian\"\nPixelFilter \"box\"\n");
     ASSERT_EQ(d.warnings.size(), 5u);
     EXPECT_NE(d.warnings[0].find("s.pbrt:2:16: \"zmax\" (a partial shape) is not supported"), std::string::npos) << d.warnings[0];
     EXPECT_NE(d.warnings[1].find("s.pbrt:2:33: parameter \"float frobnicate\""), std::string::npos) << d.warnings[1];

@@ -63,6 +63,17 @@ TEST(ImageTexture, TexelCentresBilinearWeightsAndOrientation) {
     EXPECT_EQ(eval1(n, 0.99f, 0.01f), 32.f);
 }
 
+TEST(ImageTexture, TexelsSharingAValueKeepTheirBilinearWeights) {
+    // 2 x 2 texels: the top row is one value (entry 0), the bottom row another (entry 1), as
+    // when an image's texels share a colour. Between the rows' centres the blend is linear.
+    Texture t = number_image(2, 2, {1, 3});
+    std::get<ImageTexture>(t.pattern).texels = {0, 0, 1, 1};
+    EXPECT_FLOAT_EQ(eval1(t, 0.5f, 0.5f), 2.f);
+    EXPECT_FLOAT_EQ(eval1(t, 0.3f, 0.375f), 2.5f);  // a quarter of the way from the bottom centre
+    EXPECT_EQ(eval1(t, 0.5f, 0.75f), 1.f);
+    EXPECT_EQ(eval1(t, 0.1f, 0.25f), 3.f);
+}
+
 TEST(ImageTexture, WrapModesOutsideTheUnitSquare) {
     // One row of 4 texels 0, 1, 2, 3; nearest filtering shows which texel each u reads.
     auto at = [](WrapMode mode, float u) {

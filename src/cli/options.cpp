@@ -93,7 +93,8 @@ Options:
                          Format by extension: .png (sRGB 8-bit, tone-mapped), .exr and .pfm
                          (linear float), .ppm (P3 with #MAX=), .film (a partial film:
                          the film's sums for 'pathtracer merge'; then every output is a
-                         .film). Default: SCENE.png
+                         .film). Default: the scene's image file (a pbrt Film's
+                         filename), else SCENE.png
   --exposure STOPS       PNG exposure adjustment in stops (-20 to 20; default 0)
   --auto-exposure        PNG: also add the stops that bring the median luminance of the
                          non-black pixels to 0.18 (middle grey); the summary prints them

@@ -10,6 +10,7 @@
 
 #include "core/text.h"
 #include "geometry/dvec3.h"
+#include "io/image_writer.h"
 #include "scene/pbrt_params.h"
 #include "scene/pbrt_tokenizer.h"
 
@@ -228,6 +229,7 @@ public:
         root.set("camera", m_camera ? *m_camera : default_camera(end));
         ParamValue image = ParamValue::dict(end);
         image.set("width", num(m_width, end)).set("height", num(m_height, end)).set("spp", num(m_spp, end));
+        if (m_output) image.set("file", *m_output);
         root.set("image", std::move(image));
         root.set("integrator", m_integrator ? *m_integrator
                                             : ParamValue::dict({{"type", str("path", end)}, {"max_depth", num(5, end)}}, end));
@@ -251,6 +253,7 @@ private:
 
     std::optional<ParamValue> m_camera;
     int m_width = 1280, m_height = 720, m_spp = 16;
+    std::optional<ParamValue> m_output;  ///< the Film's filename
     std::optional<ParamValue> m_integrator;
     std::optional<ParamValue> m_background;
     ParamValue m_textures = ParamValue::dict();
@@ -430,8 +433,10 @@ private:
             params();
         } else if (name == "PixelFilter") {
             const std::string f = type("a filter type");
-            params();
-            warn(pos, "PixelFilter \"" + f + "\" is not supported (each pixel is the mean over its area); ignored");
+            const PbrtParams p = params();
+            // A box of radius ½ is this renderer's film: each pixel the mean over its area.
+            if (f != "box" || p.get_float("xradius", 0.5) != 0.5 || p.get_float("yradius", 0.5) != 0.5)
+                warn(pos, "PixelFilter \"" + f + "\" is not supported (each pixel is the mean over its area); ignored");
         } else if (name == "WorldBegin") {
             if (m_in_world) fail(pos, "WorldBegin inside the world; expected it once");
             m_in_world = true;
@@ -593,6 +598,11 @@ private:
     void film(const std::string& type, const PbrtParams& p, SourcePos pos) {
         if (type != "rgb") warn(pos, "Film \"" + type + "\" is written as an RGB image");
         p.find("diagonal");  // the sensor's size, which only pbrt-v4's realistic camera reads
+        if (const PbrtParam* f = p.find("filename")) {
+            const std::string name = p.get_string("filename", "");
+            if (image_format_from_path(name)) m_output = ParamValue::string(name, f->pos);
+            else warn(f->pos, "Film filename \"" + name + "\" is not an image format this renderer writes (.png, .exr, .pfm, .ppm); the default output is used");
+        }
         m_width = p.get_int("xresolution", 1280);
         m_height = p.get_int("yresolution", 720);
         // The sensor's defaults are the plain CIE observer at unit exposure, which is what this
@@ -948,7 +958,7 @@ private:
             if (type == "spot") {
                 const DVec3 to = apply_point(m, p.get_point3("to").value_or(DVec3{0, 0, 1}));
                 if (length(to - from) == 0) fail(pos, "spot light with \"from\" equal to \"to\"; expected a direction");
-                cone = p.get_float("coneangle", 30), delta = p.get_float("conedelta", 5);
+                cone = p.get_float("coneangle", 30), delta = p.get_float("conedeltaangle", 5);
                 if (!(cone > 0 && cone <= 180)) fail(p.find("coneangle")->pos, "coneangle " + std::to_string(cone) + "; expected (0, 180]");
                 l.set("direction", point(normalize(to - from), pos)).set("cone_degrees", num(cone, pos));
                 l.set("falloff_degrees", num(std::clamp(cone - delta, 0.0, cone), pos));

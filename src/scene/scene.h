@@ -64,6 +64,7 @@ struct Scene : ShapeArrays {
     std::string summary;
     CameraSpec camera;
     int width = 512, height = 512, spp = 128;  ///< defaults the command line may override
+    std::string output;  ///< the image file written when the command line names none (empty: NAME.png)
     IntegratorPreset integrator;               ///< the scene's choice; the command line overrides
     /// Things that render but probably not as the author meant (an open or inward-facing
     /// refracting mesh), one line each, for the program to print.

@@ -13,6 +13,7 @@
 #include <cstring>
 
 #include "geometry/mesh_closure.h"
+#include "io/image_writer.h"
 #include "io/ply_reader.h"
 #include "scene/param_checker.h"
 #include "scene/material_types.h"
@@ -217,6 +218,12 @@ private:
         if (const ParamValue* w = v.find("width")) m_scene.width = integer_in(*w, "image width", 1, 65536);
         if (const ParamValue* h = v.find("height")) m_scene.height = integer_in(*h, "image height", 1, 65536);
         if (const ParamValue* s = v.find("spp")) m_scene.spp = integer_in(*s, "image spp", 1, 1000000);
+        if (const ParamValue* f = v.find("file")) {
+            m_scene.output = string(*f, "image file");
+            if (!image_format_from_path(m_scene.output))
+                fail(f->pos(), "image file " + quote_text(m_scene.output) +
+                                   " has no image format's ending; expected a name ending in .png, .exr, .pfm or .ppm");
+        }
         if (double(m_scene.width) * m_scene.height > double(1 << 28))
             fail(v.pos(), "image of " + std::to_string(m_scene.width) + "x" + std::to_string(m_scene.height) +
                               " pixels is too large; expected at most 268435456 pixels");

@@ -60,7 +60,7 @@ struct ImageTexture {
         w.add(texel(i + 1, j), fx * (1.f - fy));
         w.add(texel(i, j + 1), (1.f - fx) * fy);
         w.add(texel(i + 1, j + 1), fx * fy);
-        return w;
+        return w.finished();
     }
 };
 

@@ -13,18 +13,24 @@ struct TexelWeights {
     std::array<float, 4> weight{};
     int count = 0;
 
-    /// Adds weight w to entry e (merged with an earlier weight of the same entry, so a
-    /// uniform region gives one entry of weight exactly 1: its value, bit for bit).
+    /// Adds weight w to entry e (merged with an earlier weight of the same entry).
     void add(std::uint32_t e, float w) {
         for (int k = 0; k < count; ++k)
             if (entry[static_cast<std::size_t>(k)] == e) {
                 weight[static_cast<std::size_t>(k)] += w;
-                if (count == 1) weight[0] = 1.f;  // the weights sum to 1: all of it
                 return;
             }
         entry[static_cast<std::size_t>(count)] = e;
         weight[static_cast<std::size_t>(count)] = w;
         ++count;
+    }
+
+    /// Called once every weight is added: a single entry then has all of the weight, exactly
+    /// 1, so a uniform region gives its value bit for bit (its float weights may sum to
+    /// 1 ± rounding).
+    TexelWeights& finished() {
+        if (count == 1) weight[0] = 1.f;
+        return *this;
     }
 };
 
