@@ -260,7 +260,7 @@ def markdown(results: list[SceneResult], command: str, args: argparse.Namespace,
             verdict.append("blocks")
         lines.append(
             f"| {res.scene} | {res.spp} | {res.mean_y_pbrt:.4g} | {res.mean_y_ours:.4g} | {res.ratio:.4f} | "
-            f"{res.ratio_sigma:.4f} | {fmt(res.block_median, '.4f')} | {fmt(res.block_p90, '.4f')} | "
+            f"{res.ratio_sigma:.2g} | {fmt(res.block_median, '.4f')} | {fmt(res.block_p90, '.4f')} | "
             f"{fmt(res.block_signed_median, '+.4f')} | {fmt(res.noise, '.4f')} | "
             f"{'ok' if not verdict else 'DIFFERS (' + ', '.join(verdict) + ')'} | {res.delta_e:.2f} | "
             f"{res.delta_e_pbrt_self:.2f} |")
