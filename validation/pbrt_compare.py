@@ -111,7 +111,8 @@ def render_ours(program: Path, scene: Path, spp: int, seed: int, threads: int, o
     """Renders with this program; returns (error message or "", the lines it wrote on stderr)."""
     result = run([str(program), str(scene), "--spp", str(spp), "--seed", str(seed), "--threads", str(threads),
                   "--quiet", "-o", str(out)], scene.parent)
-    lines = [line for line in result.stderr.splitlines() if line.strip()]
+    # Messages name the scene relative to its folder, so reports do not depend on the checkout's place.
+    lines = [line.replace(str(scene.parent) + "/", "") for line in result.stderr.splitlines() if line.strip()]
     if result.returncode != 0 or not out.is_file():
         return f"ours exit {result.returncode}: {last_line(result.stderr)}", lines
     return "", lines
@@ -235,7 +236,7 @@ def markdown(results: list[SceneResult], command: str, args: argparse.Namespace,
         "",
         f"Made by `{command}`",
         "",
-        f"pbrt-v4: `{args.pbrt}`; ours: `{args.program}`; seeds {args.seeds[0]} and {args.seeds[1]} per program "
+        f"pbrt-v4: `{args.pbrt}`; ours: `{args.program}`{' (' + args.program_label + ')' if args.program_label else ''}; seeds {args.seeds[0]} and {args.seeds[1]} per program "
         f"(each program's image is the mean of its two renders); {block}x{block}-pixel blocks.",
         "",
         "Columns: mean Rec. 709 luminance of each image; ours/pbrt with its 1-sigma noise; the median and 90th "
@@ -289,6 +290,7 @@ def parse_args(argv: list[str] | None) -> argparse.Namespace:
     parser.add_argument("--out", type=Path, default=ROOT / "validation" / "results")
     parser.add_argument("--renders", type=Path, default=ROOT / "build" / "pbrt_compare")
     parser.add_argument("--threads", type=int, default=2)
+    parser.add_argument("--program-label", default="", help="what --program was built from (written into the report)")
     parser.add_argument("--block", type=int, default=8)
     parser.add_argument("--reuse", action="store_true", help="keep renders that already exist in --renders")
     args = parser.parse_args(argv)
@@ -314,6 +316,9 @@ def main(argv: list[str] | None = None) -> int:
         for seed in args.seeds:
             for who in ("pbrt", "ours"):
                 out = args.renders / f"{name}.{who}.spp{spp}.seed{seed}.pfm"
+                said = out.with_suffix(".stderr.txt")  # what ours wrote, kept for --reuse
+                if args.reuse and out.is_file() and who == "ours" and said.is_file():
+                    res.ours_stderr = said.read_text().splitlines()
                 if not (args.reuse and out.is_file()):
                     out.unlink(missing_ok=True)
                     if who == "pbrt":
@@ -321,6 +326,7 @@ def main(argv: list[str] | None = None) -> int:
                     else:
                         error, lines = render_ours(args.program.resolve(), scene.resolve(), spp, seed, args.threads, out)
                         res.ours_stderr = lines
+                        said.write_text("".join(line + "\n" for line in lines))
                     if error:
                         res.error = res.error or error
                         continue
