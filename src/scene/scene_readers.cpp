@@ -113,4 +113,48 @@ std::optional<Scene> load_builtin_scene(const std::string& name, SpectralResolut
     return load_scene_text(embedded->text, file, name, resolution, reader, input_files);
 }
 
+std::optional<SceneSource> read_scene_source(const std::string& scene) {
+    const auto reader_for = [](const std::string& origin) {
+        const SceneReader* reader = &scene_readers().front();
+        for (const SceneReader& r : scene_readers())
+            if (origin.ends_with(r.extension)) reader = &r;
+        return reader;
+    };
+    if (scene.find('/') == std::string::npos) {
+        const std::string file = "scenes/" + scene + ".json";
+        if (const EmbeddedFile* embedded = find_embedded(file)) {
+            SceneSource s;
+            s.description = reader_for(file)->read(embedded->text, file, scene);
+            s.read_relative = [](const std::string& rel, std::string& contents, std::string& display, std::string& why) {
+                display = (std::filesystem::path("scenes") / rel).lexically_normal().generic_string();
+                const EmbeddedFile* f = find_embedded(display);
+                if (!f) {
+                    why = "no such built-in file";
+                    return false;
+                }
+                contents = f->bytes();
+                return true;
+            };
+            return s;
+        }
+    }
+    std::error_code ec;
+    if (!scene.ends_with(".json") && !std::filesystem::is_regular_file(scene, ec)) return std::nullopt;
+    std::string error;
+    const std::string text = read_whole_file(scene, error);
+    if (!error.empty()) throw LocatedError(scene, {1, 1}, "cannot read the scene file: " + error + "; expected a readable scene file");
+    SceneSource s;
+    s.description = reader_for(scene)->read(text, scene, std::filesystem::path(scene).stem().string());
+    s.folder = std::filesystem::path(scene).parent_path().string();
+    if (s.folder.empty()) s.folder = ".";
+    s.read_relative = [base = std::filesystem::path(s.folder)](const std::string& rel, std::string& contents,
+                                                               std::string& display, std::string& why) {
+        const std::filesystem::path full = base / rel;
+        display = full.string();
+        contents = read_whole_file(full, why);
+        return why.empty();
+    };
+    return s;
+}
+
 }  // namespace spt

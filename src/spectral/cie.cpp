@@ -29,4 +29,15 @@ const Observer& Cie1931::get() {
     return instance;
 }
 
+double luminance(const SpectrumSource& s) {
+    const Observer& cie = Cie1931::get();
+    double sy = 0, y = 0;
+    for (int l = static_cast<int>(kLambdaMin); l <= static_cast<int>(kLambdaMax); ++l) {
+        const double ybar = cie.cmf(static_cast<float>(l)).y;
+        sy += s.eval(l) * ybar;
+        y += ybar;
+    }
+    return sy / y;
+}
+
 }  // namespace spt
