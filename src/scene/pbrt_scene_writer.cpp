@@ -282,7 +282,7 @@ private:
             const double cone = number_or(v.peek("cone_degrees"), 30);
             const double falloff = number_or(v.peek("falloff_degrees"), cone);
             line("LightSource \"spot\" \"point3 from\" [ " + point_text(position) + " ] \"point3 to\" [ " + point_text(to) +
-                 " ] \"float coneangle\" " + num(cone) + " \"float conedelta\" " + num(cone - falloff) + " " + i);
+                 " ] \"float coneangle\" " + num(cone) + " \"float conedeltaangle\" " + num(cone - falloff) + " " + i);
         } else {
             comment(what + ": light type " + pstr(t) + " is not exported");
         }
