@@ -97,7 +97,7 @@ TEST(PbrtExport, TheDescriptionBuildsAndItsExportHasTheDirectives) {
     EXPECT_EQ(t.find("Scale", scale + 2), std::string::npos) << "the world must not be mirrored";
     EXPECT_NE(t.find("MakeNamedMaterial \"white\" \"string type\" \"diffuse\" \"spectrum reflectance\" [ 360 0.5 830 0.5 ]"),
               std::string::npos);
-    EXPECT_NE(t.find("NamedMaterial \"white\"\n  Translate 0 0.5 0\n  Shape \"sphere\" \"float radius\" 0.5"), std::string::npos);
+    EXPECT_NE(t.find("NamedMaterial \"white\"\n  Translate 0 0.5 0\n  Rotate 90 1 0 0\n  Shape \"sphere\" \"float radius\" 0.5"), std::string::npos);
     // The quad keeps its winding (pbrt-v4's triangle normal is (p1 - p0) x (p2 - p0), as ours).
     EXPECT_NE(t.find("Shape \"trianglemesh\" \"integer indices\" [ 0 1 2 0 2 3 ] \"point3 P\" [ -0.5 2 -0.5 0.5 2 -0.5 0.5 2 0.5 -0.5 2 0.5 ]"),
               std::string::npos) << t;

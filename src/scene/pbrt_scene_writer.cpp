@@ -657,6 +657,9 @@ private:
         surface(v, what);
         if (t == "sphere") {
             line("  Translate " + point_text(vec(v.peek("center"), {0, 0, 0})));
+            // pbrt-v4's sphere has its poles on z; turned so they are on y with φ running from +x
+            // towards +z, its (u, v) and its tangent (growing u) are ours.
+            line("  Rotate 90 1 0 0");
             line("  Shape \"sphere\" \"float radius\" " + num(number_or(v.peek("radius"), 1)));
         } else if (t == "plane") {
             const V3 n = normalized(vec(v.peek("normal"), {0, 1, 0}));
