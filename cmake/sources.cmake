@@ -54,6 +54,7 @@ set(SPT_CORE_SOURCES
     src/scene/builtin_scenes.cpp
     src/scene/effects.cpp
     src/scene/param_checker.cpp
+    src/scene/pbrt_scene_writer.cpp
     src/scene/scene_description.cpp
     src/scene/scene_builder.cpp
     src/scene/json_scene_reader.cpp

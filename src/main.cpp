@@ -31,6 +31,8 @@
 #include "render/wavefront.h"
 #include "io/located_error.h"
 #include "scene/param_checker.h"
+#include "scene/pbrt_scene_writer.h"
+#include "scene/scene_builder.h"
 #include "scene/scene_loader.h"
 #include "spectral/rgb_to_spectrum.h"
 #include "spectral/sensor.h"
@@ -150,6 +152,36 @@ std::optional<spt::Scene> load_scene(const spt::Options& opt, spt::InputFiles& f
     const std::vector<std::string> builtins = spt::builtin_scene_names();
     throw spt::UsageError("SCENE: expected a scene file (.json or .pbrt) or one of " + spt::join(builtins) + ", got '" +
                           opt.scene + "'." + spt::suggestion(opt.scene, builtins));
+}
+
+/// --export-pbrt: the scene's description (with the image flags applied) as a pbrt-v4 file;
+/// the file and the meshes and images copied beside it are written all or nothing.
+int export_pbrt(const spt::Options& opt) {
+    std::optional<spt::SceneSource> source = spt::read_scene_source(opt.scene);
+    if (!source) {
+        const std::vector<std::string> builtins = spt::builtin_scene_names();
+        throw spt::UsageError("SCENE: expected a scene file (.json) or one of " + spt::join(builtins) + ", got '" +
+                              opt.scene + "'." + spt::suggestion(opt.scene, builtins));
+    }
+    // The scene is built first, as a render would, so that only a scene this program accepts
+    // is written (the writer reads the description as it is, checked).
+    const spt::Scene scene = spt::build_scene(source->description, opt.spectral, source->read_relative);
+    const spt::ImageSize size = spt::resolve_image_size(scene.width, scene.height, opt.width, opt.height, opt.scale);
+    spt::ParamValue& root = source->description.root;
+    root.set("image", spt::ParamValue::dict({{"width", spt::ParamValue::number(size.width)},
+                                             {"height", spt::ParamValue::number(size.height)},
+                                             {"spp", spt::ParamValue::number(opt.spp.value_or(scene.spp))}}));
+    spt::PbrtExportSettings settings;
+    settings.output_path = opt.export_pbrt;
+    settings.scene_folder = source->folder;
+    settings.read_relative = source->read_relative;
+    const spt::PbrtExport exported = spt::export_pbrt(source->description, settings);
+    std::vector<std::pair<std::string, std::string>> files = exported.files;
+    files.emplace_back(opt.export_pbrt, exported.text);
+    spt::write_files_atomically(files);
+    if (!opt.quiet)
+        for (const auto& [path, bytes] : files) std::fprintf(stderr, "  wrote %s\n", path.c_str());
+    return 0;
 }
 
 /// --list-scenes: one line per built-in scene, the name first (scripts take the first word).
@@ -468,6 +500,7 @@ int main(int argc, char** argv) {
             list_scenes();
             return 0;
         }
+        if (!opt.export_pbrt.empty()) return export_pbrt(opt);
         return run(opt);
     } catch (const spt::LocatedError& e) {  // a scene file: "file:line:column: message"
         std::fprintf(stderr, "%s\n", e.what());

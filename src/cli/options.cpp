@@ -63,7 +63,7 @@ void check_spectral_output(const Options& o, bool spectral_range_given) {
 
 const std::vector<std::string>& known_flags() {
     static const std::vector<std::string> flags = {
-        "--help", "--version", "--list-scenes", "--rgb-to-spectrum", "--quiet", "--spp", "--width",
+        "--help", "--version", "--list-scenes", "--export-pbrt", "--rgb-to-spectrum", "--quiet", "--spp", "--width",
         "--height", "--scale", "--output", "--exposure", "--auto-exposure", "--tonemap", "--white-balance",
         "--print-adaptation", "--color-resolution", "--color-space", "--spectral-bins", "--spectral-bands",
         "--spectral-range", "--sensor", "--preview-interval", "--display-server", "--threads", "--tile", "--queue",
@@ -197,6 +197,9 @@ Options:
                          exit (N = ceil(S/K); for splitting it into --passes ranges)
   --quiet                no progress bar and no summary
   --list-scenes          list the built-in scenes
+  --export-pbrt FILE.pbrt  write the scene (with --width, --height, --spp applied) as a
+                         pbrt-v4 scene file, with the meshes and images it needs that are not
+                         on disk beside it, and exit without rendering
   -h, --help             this text
   --version              the program version
 
@@ -239,6 +242,10 @@ Options parse_options(const std::vector<std::string>& args) {
             o.show_version = true;
         } else if (flag == "--list-scenes") {
             o.list_scenes = true;
+        } else if (flag == "--export-pbrt") {
+            o.export_pbrt = next_value();
+            if (!o.export_pbrt.ends_with(".pbrt"))
+                throw UsageError(flag + ": expected a file name ending in .pbrt, got '" + o.export_pbrt + "'");
         } else if (flag == "--rgb-to-spectrum") {
             const std::string v = next_value();
             std::array<double, 3> rgb{};

@@ -76,6 +76,9 @@ struct Options {
     bool show_help = false;
     bool show_version = false;
     bool list_scenes = false;
+    /// --export-pbrt FILE: write the scene as a pbrt-v4 file (and the meshes and images it
+    /// needs beside it) and exit without rendering; empty: render.
+    std::string export_pbrt;
     /// --rgb-to-spectrum R,G,B: print the fitted spectrum of an RGB reflectance and exit
     /// (a diagnostic hook for validation/test_rgb_fit.py).
     std::optional<std::array<double, 3>> rgb_to_spectrum;

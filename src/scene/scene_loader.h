@@ -43,6 +43,19 @@ Scene load_scene_text(std::string_view text, const std::string& origin, const st
 /// Loads a scene file from disk; meshes are found relative to its folder. Throws LocatedError.
 Scene load_scene_file(const std::string& path, SpectralResolution resolution, InputFiles* input_files = nullptr);
 
+/// A scene's description, unbuilt, with the reader of the files it names and the folder those
+/// are relative to on disk (empty for a built-in scene, whose files are compiled in).
+struct SceneSource {
+    SceneDescription description;
+    RelativeFileReader read_relative;
+    std::string folder;
+};
+
+/// The description of SCENE as the command line names it: a built-in scene's name or a scene
+/// file's path; nullopt when it is neither a built-in name nor an existing file. Throws
+/// LocatedError for a file that cannot be read or parsed.
+std::optional<SceneSource> read_scene_source(const std::string& scene);
+
 /// The scene rendered when the command line names none: a built-in scene's name.
 inline constexpr char kDefaultScene[] = "cornell";
 

@@ -46,6 +46,58 @@ std::string read_whole_file(const std::filesystem::path& path, std::string& erro
     return text;
 }
 
+/// The reader of a scene file's format, by its name's ending (a ".gz" after it is the
+/// compression); the first reader for names without a listed ending.
+const SceneReader& reader_for(std::string_view origin) {
+    if (origin.ends_with(".gz")) origin.remove_suffix(3);
+    for (const SceneReader& r : scene_readers())
+        if (origin.ends_with(r.extension)) return r;
+    return scene_readers().front();
+}
+
+/// The scene's name: its file name without the format's ending (scene.pbrt.gz is "scene").
+std::string scene_name_of(const std::filesystem::path& path) {
+    std::filesystem::path name = path.stem();
+    if (path.extension() == ".gz") name = name.stem();
+    return name.string();
+}
+
+/// The files a scene on disk names, relative to its folder.
+RelativeFileReader files_beside(const std::filesystem::path& folder) {
+    return [folder](const std::string& rel, std::string& contents, std::string& display, std::string& why) {
+        const std::filesystem::path full = folder / rel;
+        display = full.string();
+        contents = read_whole_file(full, why);
+        return why.empty();
+    };
+}
+
+/// The files a built-in scene names: compiled in, under scenes/.
+RelativeFileReader builtin_files() {
+    return [](const std::string& rel, std::string& contents, std::string& display, std::string& why) {
+        display = (std::filesystem::path("scenes") / rel).lexically_normal().generic_string();
+        const EmbeddedFile* f = find_embedded(display);
+        if (!f) {
+            why = "no such built-in file";
+            return false;
+        }
+        contents = f->bytes();
+        return true;
+    };
+}
+
+const EmbeddedFile* builtin_scene_file(const std::string& name) {
+    if (name.find('/') != std::string::npos) return nullptr;
+    return find_embedded("scenes/" + name + ".json");
+}
+
+std::string read_scene_file(const std::string& path) {
+    std::string error;
+    std::string text = read_whole_file(path, error);
+    if (!error.empty()) throw LocatedError(path, {1, 1}, "cannot read the scene file: " + error + "; expected a readable scene file");
+    return text;
+}
+
 }  // namespace
 
 const std::vector<SceneReader>& scene_readers() {
@@ -70,13 +122,7 @@ Scene load_scene_text(std::string_view text, const std::string& origin, const st
         if (std::none_of(inputs.begin(), inputs.end(), same)) inputs.emplace_back(display, fnv1a64(contents));
         return true;
     };
-    const SceneReader* reader = &scene_readers().front();
-    const std::string_view format_name = std::string_view(origin).ends_with(".gz")
-                                             ? std::string_view(origin).substr(0, origin.size() - 3)
-                                             : std::string_view(origin);
-    for (const SceneReader& r : scene_readers())
-        if (format_name.ends_with(r.extension)) reader = &r;
-    const SceneDescription description = reader->read(text, origin, scene_name, recording);
+    const SceneDescription description = reader_for(origin).read(text, origin, scene_name, recording);
     Scene scene = build_scene(description, resolution, recording);
     scene.warnings.insert(scene.warnings.begin(), description.warnings.begin(), description.warnings.end());
     if (input_files) *input_files = std::move(inputs);
@@ -84,20 +130,9 @@ Scene load_scene_text(std::string_view text, const std::string& origin, const st
 }
 
 Scene load_scene_file(const std::string& path, SpectralResolution resolution, InputFiles* input_files) {
-    std::string error;
-    const std::string text = read_whole_file(path, error);
-    if (!error.empty()) throw LocatedError(path, {1, 1}, "cannot read the scene file: " + error + "; expected a readable scene file");
-    const std::filesystem::path base = std::filesystem::path(path).parent_path();
-    const RelativeFileReader reader = [&](const std::string& rel, std::string& contents, std::string& display,
-                                          std::string& why) {
-        const std::filesystem::path full = base / rel;
-        display = full.string();
-        contents = read_whole_file(full, why);
-        return why.empty();
-    };
-    std::filesystem::path name = std::filesystem::path(path).stem();
-    if (std::filesystem::path(path).extension() == ".gz") name = name.stem();  // scene.pbrt.gz is "scene"
-    return load_scene_text(text, path, name.string(), resolution, reader, input_files);
+    const std::string text = read_scene_file(path);
+    return load_scene_text(text, path, scene_name_of(path), resolution, files_beside(std::filesystem::path(path).parent_path()),
+                           input_files);
 }
 
 std::vector<std::string> builtin_scene_names() {
@@ -116,22 +151,26 @@ std::vector<std::string> builtin_scene_names() {
 
 std::optional<Scene> load_builtin_scene(const std::string& name, SpectralResolution resolution,
                                         InputFiles* input_files) {
-    if (name.find('/') != std::string::npos) return std::nullopt;
-    const std::string file = "scenes/" + name + ".json";
-    const EmbeddedFile* embedded = find_embedded(file);
+    const EmbeddedFile* embedded = builtin_scene_file(name);
     if (!embedded) return std::nullopt;
-    const RelativeFileReader reader = [](const std::string& rel, std::string& contents, std::string& display,
-                                         std::string& why) {
-        display = (std::filesystem::path("scenes") / rel).lexically_normal().generic_string();
-        const EmbeddedFile* f = find_embedded(display);
-        if (!f) {
-            why = "no such built-in file";
-            return false;
-        }
-        contents = f->bytes();
-        return true;
-    };
-    return load_scene_text(embedded->text, file, name, resolution, reader, input_files);
+    return load_scene_text(embedded->text, embedded->name, name, resolution, builtin_files(), input_files);
+}
+
+std::optional<SceneSource> read_scene_source(const std::string& scene) {
+    SceneSource s;
+    if (const EmbeddedFile* embedded = builtin_scene_file(scene)) {
+        s.read_relative = builtin_files();
+        s.description = reader_for(embedded->name).read(embedded->text, embedded->name, scene, s.read_relative);
+        return s;
+    }
+    std::error_code ec;
+    if (!scene.ends_with(".json") && !std::filesystem::is_regular_file(scene, ec)) return std::nullopt;
+    const std::string text = read_scene_file(scene);
+    s.folder = std::filesystem::path(scene).parent_path().string();
+    if (s.folder.empty()) s.folder = ".";
+    s.read_relative = files_beside(s.folder);
+    s.description = reader_for(scene).read(text, scene, scene_name_of(scene), s.read_relative);
+    return s;
 }
 
 }  // namespace spt

@@ -30,10 +30,13 @@ public:
     /// errors point at `pos`.
     Spectrum spectrum_from(const SpectrumSource& source, SourcePos pos, const std::string& what, SpectrumUse use) const;
 
+    /// The exact, unchecked source `v` describes (what spectrum() bins), for code that needs
+    /// its values at any wavelength (the pbrt-v4 writer tabulates it). Throws LocatedError.
+    SpectrumSource spectrum_source(const ParamValue& v, const std::string& what) const;
+
 private:
     SpectralResolution m_resolution;
 
-    SpectrumSource spectrum_source(const ParamValue& v, const std::string& what) const;
     SpectrumSource rgb(const ParamValue& v, const std::string& what, double scale) const;
     static SpectrumSource table_column(const SpectralTable& t, const std::string& column, double scale);
 };
