@@ -777,6 +777,35 @@ private:
             uv_mapping(t, p);
             info.supported = true;
             m_textures.set(name, std::move(t), pos);
+        } else if (cls == "bilerp") {
+            // pbrt-v4's bilinear blend of four values at the corners of the (u, v) square: a
+            // gradient when it varies along one axis only.
+            const auto value = [&](const char* key, double fallback) -> ParamValue {
+                const PbrtParam* v = p.find(key);
+                if (!v) return num(fallback, pos);
+                if (v->type == "texture") fail(v->pos, "bilerp \"" + std::string(key) + "\" names a texture; expected a value");
+                return spectrum(*v, role);
+            };
+            const ParamValue v00 = value("v00", 0), v01 = value("v01", 1), v10 = value("v10", 0), v11 = value("v11", 1);
+            const auto same = [](const ParamValue& a, const ParamValue& b) { return a.is_number() && b.is_number() ? a.as_number() == b.as_number() : false; };
+            const auto same_list = [&](const ParamValue& a, const ParamValue& b) {
+                if (same(a, b)) return true;
+                if (!a.is_array() || !b.is_array() || a.items().size() != b.items().size()) return false;
+                for (std::size_t i = 0; i < a.items().size(); ++i)
+                    if (!same(a.items()[i], b.items()[i])) return false;
+                return true;
+            };
+            ParamValue t = ParamValue::dict({{"type", str("gradient", pos)}}, pos);
+            if (same_list(v00, v01) && same_list(v10, v11)) t.set("start", v00).set("end", v10).set("axis", str("u", pos));
+            else if (same_list(v00, v10) && same_list(v01, v11)) t.set("start", v00).set("end", v01).set("axis", str("v", pos));
+            else {
+                warn(pos, "Texture \"bilerp\" varying along both u and v is not supported; materials that use \"" + name + "\" take their default");
+                m_texture_info[name] = info;
+                return;
+            }
+            uv_mapping(t, p);
+            info.supported = true;
+            m_textures.set(name, std::move(t), pos);
         } else if (cls == "checkerboard") {
             ParamValue t = ParamValue::dict({{"type", str("checkerboard", pos)}}, pos);
             const auto value = [&](const char* key, double fallback) {
@@ -992,7 +1021,17 @@ private:
     void area_light(const std::string& type, const PbrtParams& p, SourcePos pos) {
         if (type != "diffuse") fail(pos, "AreaLightSource \"" + type + "\"; expected \"diffuse\"");
         AreaLight a;
-        a.emission = light_spectrum(p, "L", p.get_float("scale", 1), pos);
+        if (const PbrtParam* f = p.find("filename")) {
+            // An image of radiance: texels are RGB illuminants (the fit times D65 of luminance
+            // 1), which is how this renderer reads an emission texture.
+            if (p.has("L")) fail(f->pos, "an area light with both \"L\" and \"filename\"; expected one of them");
+            const std::string name = "@area-light-image-" + std::to_string(m_area_lights + 1);
+            m_textures.set(name, ParamValue::dict({{"type", str("image", f->pos)}, {"file", str(p.get_string("filename", ""), f->pos)}}, f->pos));
+            m_texture_info[name].supported = true;
+            a.emission = ParamValue::dict({{"texture", str(name, f->pos)}, {"scale", num(p.get_float("scale", 1), pos)}}, pos);
+        } else {
+            a.emission = light_spectrum(p, "L", p.get_float("scale", 1), pos);
+        }
         a.two_sided = p.get_bool("twosided", false);
         a.id = ++m_area_lights;
         warn_unused(p, "AreaLightSource \"diffuse\"");
