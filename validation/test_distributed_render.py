@@ -123,7 +123,7 @@ def test_program_errors_reach_the_user_without_a_traceback(pathtracer, tmp_path)
                               cwd=Path(__file__).resolve().parent, capture_output=True, text=True)
     bad_scene = driver("no-such-scene", "-o", str(tmp_path / "x.png"))
     assert bad_scene.returncode == 2, bad_scene.stderr
-    assert "pathtracer: SCENE: expected a scene file (.json) or one of" in bad_scene.stderr
+    assert "pathtracer: SCENE: expected a scene file (.json or .pbrt) or one of" in bad_scene.stderr
     assert "Traceback" not in bad_scene.stderr
     bad_output = driver("cornell", "--width", "8", "--height", "8", "--spp", "1",
                         "-o", str(tmp_path / "no-such-folder" / "x.png"))
