@@ -77,6 +77,7 @@ set(SPT_CORE_SOURCES
     src/spectral/sensor.cpp
     src/spectral/color_space.cpp
     src/spectral/rgb_texels.cpp
+    src/spectral/rgb_sigmoid_table.cpp
     src/spectral/rgb_to_spectrum.cpp
     src/spectral/spectral_table.cpp
     src/spectral/spectrum.cpp
