@@ -11,6 +11,7 @@
 #include "core/sampling.h"
 #include "geometry/bvh.h"
 #include "scene/scene.h"
+#include "nearest_by_loop.h"
 
 namespace spt {
 namespace {
@@ -169,13 +170,7 @@ TEST(Bvh, SceneUsesTheBvhAboveTheThresholdWithIdenticalHits) {
     tree.finalize();
     ASSERT_TRUE(tree.uses_bvh());
     // The reference: every shape tested in a loop, the nearest kept.
-    auto nearest_by_loop = [&](const Ray& ray) {
-        double t_best = ray.t_max;
-        for (const Sphere& sphere : s.spheres) t_best = std::min(t_best, sphere.intersect_t(ray));
-        for (const Triangle& tri : s.triangles)
-            if (auto ti = tri.intersect(ray, t_best)) t_best = ti->t;
-        return t_best;
-    };
+    auto nearest_by_loop = [&](const Ray& ray) { return test::nearest_t_by_loop(s.spheres, s.triangles, ray); };
     for (int k = 0; k < 2000; ++k) {
         const Vec3 o = Vec3(rng.uniform(), rng.uniform(), rng.uniform()) * 14.f - Vec3(7, 7, 7);
         const Ray ray{o, random_direction(rng, k), kInfinity};

@@ -11,6 +11,7 @@
 #include "core/rng.h"
 #include "core/sampling.h"
 #include "scene/scene.h"
+#include "nearest_by_loop.h"
 
 namespace spt {
 namespace {
@@ -152,13 +153,7 @@ TEST(SphereLanes, DisabledBvhHitsEqualALoop) {
         ray.t_max = kInfinity;
         return ray;
     };
-    auto loop = [&](const Ray& ray) {
-        double t_ref = ray.t_max;
-        for (const Sphere& s : scene.spheres) t_ref = std::min(t_ref, s.intersect_t(ray));
-        for (const Triangle& tri : scene.triangles)
-            if (auto ti = tri.intersect(ray, t_ref)) t_ref = ti->t;
-        return t_ref;
-    };
+    auto loop = [&](const Ray& ray) { return test::nearest_t_by_loop(scene.spheres, scene.triangles, ray); };
     EXPECT_GT(hits_equal_a_loop(scene, make_ray, loop, "24 spheres and triangles without a BVH"), 1000);
 }
 
