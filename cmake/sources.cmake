@@ -24,7 +24,9 @@ set(SPT_CORE_SOURCES
     src/io/density_grid_reader.cpp
     src/io/checksums.cpp
     src/io/embedded_files.cpp
+    src/io/exr_compression.cpp
     src/io/exr_decoder.cpp
+    src/io/exr_piz.cpp
     src/io/exr_writer.cpp
     src/io/image_decoders.cpp
     src/io/inflate.cpp
@@ -34,6 +36,7 @@ set(SPT_CORE_SOURCES
     src/io/image_writer.cpp
     src/io/pfm_writer.cpp
     src/io/ply_reader.cpp
+    src/io/rgbe_decoder.cpp
     src/io/png_writer.cpp
     src/io/tev_client.cpp
     src/io/ppm_writer.cpp

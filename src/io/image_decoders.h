@@ -1,5 +1,6 @@
-// Image readers for textures (our own code, no library): PNG, PPM (P3/P6, and the renderer's
-// own HDR P3 with "#MAX="), PFM and OpenEXR as src/io/exr_writer.cpp writes it. Each checks
+// Image readers for textures and environment maps (our own code, no library): PNG, PPM (P3/P6,
+// and the renderer's own HDR P3 with "#MAX="), PFM, OpenEXR (scan-line or tiled; NONE, RLE,
+// ZIPS, ZIP and PIZ compression) and Radiance RGBE (.hdr, .pic). Each checks
 // every size against the bytes it has before allocating, so truncated files, wrong sizes and
 // absurd dimensions fail with an ImageDecodeError, never a crash or a huge allocation.
 #pragma once
@@ -15,8 +16,10 @@ struct ImageDecodeError : std::runtime_error {
     using std::runtime_error::runtime_error;
 };
 
-/// The most texels a texture image may have (4096 × 4096): beyond it, an error.
-inline constexpr long long kMaxTextureTexels = 1ll << 24;
+/// The most texels an image may have (2^27: 16384 × 8192, the largest common environment
+/// maps): beyond it, an error. Decoded, such an image takes 12 bytes a texel as RGB floats
+/// (1.5 GiB), 16 as RGBA.
+inline constexpr long long kMaxTextureTexels = 1ll << 27;
 
 /// Decoded samples: `channels` per texel (1 grey, 2 grey + alpha, 3 RGB, 4 RGBA), row-major,
 /// row 0 = the top of the image.
@@ -34,13 +37,15 @@ struct DecodedImage {
     }
 };
 
-/// The format is told by the first bytes (PNG signature, "P3"/"P6", "PF"/"Pf", EXR magic).
+/// The format is told by the first bytes (PNG signature, "P3"/"P6", "PF"/"Pf", EXR magic,
+/// "#?RADIANCE" or "#?RGBE").
 DecodedImage decode_image(std::string_view bytes);
 
 DecodedImage decode_png(std::string_view bytes);
 DecodedImage decode_ppm(std::string_view bytes);
 DecodedImage decode_pfm(std::string_view bytes);
 DecodedImage decode_exr(std::string_view bytes);
+DecodedImage decode_rgbe(std::string_view bytes);
 
 /// Throws unless 1 ≤ width, height and width·height ≤ kMaxTextureTexels.
 void check_image_size(long long width, long long height);

@@ -755,8 +755,8 @@ private:
             if (!f || f->type != "string") fail(pos, "imagemap texture \"" + name + "\" has no \"string filename\"; expected the image's file");
             const std::string& file_name = f->strings[0];
             const std::string ext = lowercase(file_name.substr(std::min(file_name.size(), file_name.rfind('.'))));
-            if (ext != ".png" && ext != ".pfm" && ext != ".exr" && ext != ".ppm") {
-                warn(f->pos, "image \"" + file_name + "\": this format is not read (PNG, PFM, EXR and PPM are); materials that use \"" +
+            if (ext != ".png" && ext != ".pfm" && ext != ".exr" && ext != ".ppm" && ext != ".hdr" && ext != ".pic") {
+                warn(f->pos, "image \"" + file_name + "\": this format is not read (PNG, PFM, EXR, PPM and Radiance HDR are); materials that use \"" +
                                  name + "\" take their default");
                 for (const PbrtParam& q : p.all()) q.used = true;
                 m_texture_info[name] = info;

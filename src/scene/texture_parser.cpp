@@ -129,7 +129,7 @@ void TextureParser::image(Texture& t, const ParamValue& def, const std::string& 
     std::string contents, display, error;
     if (file.empty() || !m_read_relative(file, contents, display, error))
         fail(fv.pos(), "cannot read texture image " + quote_text(file) + (error.empty() ? "" : ": " + error) +
-                           "; expected a PNG, PPM, PFM or EXR file path relative to the scene file");
+                           "; expected a PNG, PPM, PFM, EXR or Radiance HDR file path relative to the scene file");
     DecodedImage img;
     try {
         img = decode_image(contents);
