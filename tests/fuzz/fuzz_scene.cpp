@@ -3,7 +3,7 @@
 //   fuzz_scene: bytes → JSON reader → scene loader (a mesh named "a.ply" resolves to a small
 //               valid PLY, any other file name fails to open).
 //   fuzz_ply:   bytes → PLY reader.
-//   fuzz_png:   bytes → PNG reader (with our inflate).
+//   fuzz_png:   bytes → image readers: PNG (with our inflate), OpenEXR, Radiance HDR, PFM, PPM.
 // The only exception allowed to escape is LocatedError (the clean "file:line:column" error;
 // for fuzz_png ImageDecodeError, the reader's own); anything else, and any crash, leak or
 // undefined behaviour, is a finding.
@@ -34,6 +34,11 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
 #if defined(SPT_FUZZ_PLY)
         spt::parse_ply(bytes, "fuzz.ply");
 #elif defined(SPT_FUZZ_PNG)
+        // Other formats (OpenEXR, Radiance HDR, PFM, PPM) go to decode_image as they are.
+        if (!bytes.starts_with("\x89PNG")) {
+            spt::decode_image(bytes);
+            return 0;
+        }
         // Mutations would nearly all break a chunk CRC and stop there: give every chunk its
         // right CRC, so the chunks' contents (header, palette, compressed data) get fuzzed.
         std::string png(bytes);
