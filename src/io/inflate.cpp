@@ -1,5 +1,7 @@
 // Canonical-Huffman DEFLATE decoder in the manner of zlib's "puff" reference decoder
-// (counts per code length, symbols sorted by code): small, and each step checks its bounds.
+// (counts per code length, symbols sorted by code), with a 64-bit bit buffer and a table for
+// codes up to 9 bits (nearly every symbol of real streams), so that a compressed 8k × 4k
+// environment map inflates in about a second; each step checks its bounds.
 #include "io/inflate.h"
 
 #include "io/checksums.h"
@@ -14,42 +16,58 @@ namespace {
 
 constexpr int kMaxBits = 15;  // longest DEFLATE code
 
-/// Bits of the stream, least significant first (RFC 1951 §3.1.1).
+/// Bits of the stream, least significant first (RFC 1951 §3.1.1), through a 64-bit buffer.
 class BitReader {
 public:
     explicit BitReader(std::string_view data) : m_data(data) {}
 
     unsigned bits(int n) {
-        unsigned v = 0;
-        for (int i = 0; i < n; ++i) v |= bit() << i;
+        if (n == 0) return 0;
+        need(n);
+        const auto v = static_cast<unsigned>(m_buffer & ((std::uint64_t(1) << n) - 1));
+        drop(n);
         return v;
     }
-    unsigned bit() {
-        if (m_pos >= m_data.size()) throw InflateError("the compressed data ends early (truncated stream)");
-        const unsigned b = (static_cast<unsigned char>(m_data[m_pos]) >> m_bit) & 1u;
-        if (++m_bit == 8) m_bit = 0, ++m_pos;
-        return b;
+    unsigned bit() { return bits(1); }
+    /// The next `n` ≤ 32 bits without consuming them; zeros past the end of the data (the
+    /// caller checks with available() before using them).
+    unsigned peek(int n) {
+        if (m_count < n) refill();
+        return static_cast<unsigned>(m_buffer & ((std::uint64_t(1) << n) - 1));
     }
+    int available() const { return m_count; }
+    void drop(int n) { m_buffer >>= n, m_count -= n; }
     /// Skips to the next byte boundary (stored blocks start there).
-    void align() {
-        if (m_bit != 0) m_bit = 0, ++m_pos;
-    }
-    std::uint8_t byte() {
-        if (m_pos >= m_data.size()) throw InflateError("the compressed data ends early (truncated stream)");
-        return static_cast<std::uint8_t>(m_data[m_pos++]);
-    }
-    std::size_t position() const { return m_pos; }
+    void align() { drop(m_count % 8); }
+    std::uint8_t byte() { return static_cast<std::uint8_t>(bits(8)); }
+    /// Bytes consumed so far (after align()).
+    std::size_t position() const { return m_pos - static_cast<std::size_t>(m_count / 8); }
 
 private:
     std::string_view m_data;
-    std::size_t m_pos = 0;
-    int m_bit = 0;
+    std::size_t m_pos = 0;  ///< the next byte to load into the buffer
+    std::uint64_t m_buffer = 0;
+    int m_count = 0;  ///< bits in the buffer
+
+    void refill() {
+        while (m_count <= 56 && m_pos < m_data.size()) {
+            m_buffer |= std::uint64_t(static_cast<unsigned char>(m_data[m_pos++])) << m_count;
+            m_count += 8;
+        }
+    }
+    void need(int n) {
+        if (m_count < n) refill();
+        if (m_count < n) throw InflateError("the compressed data ends early (truncated stream)");
+    }
 };
 
-/// A canonical Huffman code: how many codes of each length, and the symbols in code order.
+/// A canonical Huffman code: how many codes of each length, and the symbols in code order;
+/// codes up to kFastBits long are also in a table indexed by the stream's next bits.
 struct Huffman {
+    static constexpr int kFastBits = 9;
     std::array<std::uint16_t, kMaxBits + 1> count{};
     std::vector<std::uint16_t> symbol;
+    std::array<std::uint16_t, 1u << kFastBits> fast{};  ///< symbol << 4 | length; 0: a longer code
 
     /// Builds the code from each symbol's length (0: unused). Over-subscribed sets are an
     /// error; incomplete ones are allowed (RFC 1951 permits a single distance code).
@@ -64,9 +82,31 @@ struct Huffman {
         for (int len = 1; len <= kMaxBits; ++len) offset[len + 1] = offset[len] + count[len];
         for (int s = 0; s < n; ++s)
             if (lengths[s] != 0) symbol[offset[lengths[s]]++] = static_cast<std::uint16_t>(s);
+        // The codes in order (RFC 1951 §3.2.2), bit-reversed: the stream sends them first bit first.
+        std::array<unsigned, kMaxBits + 1> next{};
+        unsigned code = 0;
+        for (int len = 1; len <= kMaxBits; ++len) {
+            code = (code + (len == 1 ? 0u : count[len - 1])) << 1;
+            next[len] = code;
+        }
+        for (int s = 0; s < n; ++s) {
+            const int len = lengths[s];
+            if (len == 0) continue;
+            const unsigned c = next[len]++;
+            if (len > kFastBits) continue;
+            unsigned reversed = 0;
+            for (int i = 0; i < len; ++i) reversed |= ((c >> i) & 1u) << (len - 1 - i);
+            for (unsigned e = reversed; e < (1u << kFastBits); e += 1u << len)
+                fast[e] = static_cast<std::uint16_t>(s << 4 | len);
+        }
     }
 
     int decode(BitReader& in) const {
+        const std::uint16_t e = fast[in.peek(kFastBits)];
+        if (e != 0 && (e & 15) <= in.available()) {
+            in.drop(e & 15);
+            return e >> 4;
+        }
         int code = 0, first = 0, index = 0;
         for (int len = 1; len <= kMaxBits; ++len) {
             code |= static_cast<int>(in.bit());
@@ -193,7 +233,11 @@ private:
             if (dsym >= 30) throw InflateError("invalid distance symbol in the compressed data");
             const std::size_t dist = kDistBase[dsym] + m_in.bits(kDistExtra[dsym]);
             if (dist > m_out.size()) throw InflateError("a back-reference points before the start of the data");
-            for (unsigned i = 0; i < len; ++i) put(m_out[m_out.size() - dist]);
+            if (m_expected - m_out.size() < len) throw InflateError("the decompressed data is longer than the image needs");
+            for (unsigned i = 0; i < len; ++i) {
+                const std::uint8_t b = m_out[m_out.size() - dist];
+                m_out.push_back(b);
+            }
         }
     }
 };
