@@ -2,6 +2,21 @@
 // maps hold millions of distinct colours; rgb_to_spectrum's exact fit costs tens of µs each).
 // The spectrum of an RGB illuminant is scale · s(c0·t² + c1·t + c2) · D65(λ) with D65
 // normalised to luminance 1 (rgb_texels.h): the same rule as emission texels.
+//
+// A coefficient table in the scheme of Jakob & Hanika 2019, as pbrt-v4's RGBToSpectrumTable
+// uses it: for each choice of the largest component, z = that component and the other two
+// divided by z index 3 × 32 × 32 × 32 nodes of coefficients (1.2 MB of floats; node layout and
+// spacing in rgb_sigmoid_table_data.h), interpolated trilinearly; greys get constant spectra directly.
+// The nodes are fitted with rgb_to_spectrum's own fit (CIELAB under D65, 1-nm sums), each from
+// a neighbouring node's solution, by make_rgb_sigmoid_table, which CMake builds optimised and
+// without sanitizers in every build type and runs at build time: about 4 s of CPU, plus about
+// 5 s to compile its 4.8 MB output. Fitted on first use instead, the same work would cost
+// seconds at start-up, far beyond the 0.1 s that would make that worth it.
+//
+// Against the exact colour (tests/test_rgb_sigmoid_table.cpp): CIEDE2000 max 0.27, mean 0.04
+// over a 25³ grid of [0, 1]³ and 20 000 random colours; illuminants (which only read the plane
+// z = ½, a node) max 0.17, mean 0.02. A lookup costs about 100 ns, lock-free: the table is
+// constant data.
 #pragma once
 #include <array>
 #include <cmath>

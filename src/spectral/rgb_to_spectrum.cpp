@@ -210,6 +210,11 @@ std::array<double, 3> xyz_d65_to_lab(const Xyz& xyz) {
     return {116 * fy - 16, 500 * (fx - fy), 200 * (fy - fz)};
 }
 
+double refine_rgb_sigmoid(const std::array<double, 3>& rgb, std::array<double, 3>& c, int max_iterations) {
+    const auto lab = xyz_d65_to_lab(linear_srgb_to_xyz_d65(rgb));
+    return fit_lab(lab.data(), c.data(), max_iterations);
+}
+
 SpectrumSource rgb_to_spectrum(const std::array<double, 3>& rgb) {
     for (double v : rgb)
         if (!std::isfinite(v) || v < 0.0 || v > 1.0)

@@ -19,6 +19,13 @@ namespace spt {
 /// Fits are cached.
 SpectrumSource rgb_to_spectrum(const std::array<double, 3>& rgb);
 
+/// The fit behind rgb_to_spectrum from a given start instead of its continuation from grey:
+/// at most `max_iterations` damped Gauss-Newton steps move the rgb_sigmoid coefficients `c`
+/// towards the CIELAB of linear sRGB `rgb` (finite) under D65. Returns the final ΔE*ab residual;
+/// never throws (a start far from the solution may leave a large residual: start from a near
+/// solution, as a table built by continuation does).
+double refine_rgb_sigmoid(const std::array<double, 3>& rgb, std::array<double, 3>& c, int max_iterations);
+
 /// XYZ of a reflectance lit by D65 (1-nm sums over 360–830 nm), Y = 1 for a perfect white.
 Xyz reflectance_xyz_d65(const SpectrumSource& reflectance);
 
