@@ -15,8 +15,9 @@
 //
 // Against the exact colour (tests/test_rgb_sigmoid_table.cpp): CIEDE2000 max 0.27, mean 0.04
 // over a 25³ grid of [0, 1]³ and 20 000 random colours; illuminants (which only read the plane
-// z = ½, a node) max 0.17, mean 0.02. A lookup costs about 100 ns, lock-free: the table is
-// constant data.
+// z = ½, a node) max 0.17, mean 0.02. A lookup is lock-free (the table is constant data) and
+// costs about 30 ns for the texels of a smooth image in scan order, 120 ns for colours in
+// random order (cache misses in the table), measured on a busy shared machine.
 #pragma once
 #include <array>
 #include <cmath>
