@@ -21,6 +21,7 @@ set(SPT_CORE_SOURCES
     src/model/bsdfs/dielectric.cpp
     src/model/bsdfs/lobe_mix.cpp
     src/model/bsdfs/plastic.cpp
+    src/model/lights/environment_map.cpp
     src/io/density_grid_reader.cpp
     src/io/checksums.cpp
     src/io/embedded_files.cpp

@@ -30,6 +30,7 @@ constexpr double kPiD = std::numbers::pi;
 constexpr double kAlpha = 1e-5;  ///< per chi-square test (about 20 in this file)
 
 Spectrum constant(double v) { return test::constant_spectrum(v); }
+SampledWavelengths wavelengths() { return SampledWavelengths::sample(0.37f); }
 
 Scene empty_scene() {
     Scene scene;
@@ -51,6 +52,55 @@ struct Row {
     /// The light is flat (one normal): sample_le's directions are binned against pdf_le_dir.
     bool flat = false;
 };
+
+/// An equal-area map of 16 × 16 coloured texels of moderate contrast (the cone histogram's
+/// cells cut across texels: its midpoint rule resolves small steps well, and the lat-long
+/// density's 1/sin θ at the poles badly: test_environment_map.cpp bins lat-long maps by
+/// texel), turned by 30° about an oblique axis.
+EnvironmentMapLight smooth_environment_map() {
+    const int w = 16, h = 16;
+    std::vector<float> rgb;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const float a = 1.f + 0.4f * float(std::sin(2 * kPiD * x / w)), b = 1.f + 0.3f * float(y) / h;
+            rgb.insert(rgb.end(), {a * b, a, 1.2f * b});
+        }
+    EnvironmentMapLight l;
+    l.map = make_environment_map(w, h, 3, rgb, EnvironmentMapping::equal_area);
+    const Vec3 axis = normalize(Vec3{1, 2, 0.5f});
+    const float c = std::cos(0.5236f), sn = std::sin(0.5236f), k = 1 - c;
+    l.world_from_map[0] = {c + axis.x * axis.x * k, axis.x * axis.y * k - axis.z * sn, axis.x * axis.z * k + axis.y * sn};
+    l.world_from_map[1] = {axis.y * axis.x * k + axis.z * sn, c + axis.y * axis.y * k, axis.y * axis.z * k - axis.x * sn};
+    l.world_from_map[2] = {axis.z * axis.x * k - axis.y * sn, axis.z * axis.y * k + axis.x * sn, c + axis.z * axis.z * k};
+    l.scale = 1.5f;
+    return l;
+}
+
+/// πR² ∫ (mean over 380–780 nm of the arriving radiance) dω by the midpoint rule over a grid
+/// uniform in solid angle: an infinite light's power; or, `first_wavelength`, of the radiance
+/// at the first of wavelengths() (what emitted_by_sample_le integrates).
+double infinite_power_by_directions(const Light& light, float radius, bool first_wavelength) {
+    const int nc = 600, np = 1200;
+    double sum = 0;
+    for (int i = 0; i < nc; ++i) {
+        const double c = -1 + 2 * (i + 0.5) / nc, st = std::sqrt(1 - c * c);
+        for (int j = 0; j < np; ++j) {
+            const double phi = 2 * kPiD * (j + 0.5) / np;
+            const Vec3 d{float(st * std::cos(phi)), float(c), float(st * std::sin(phi))};
+            if (first_wavelength) {
+                sum += 41 * light_arriving(light, d, wavelengths())[0];
+                continue;
+            }
+            for (int k = 0; k < 41; k += 4) {
+                SampledWavelengths lambda = wavelengths();
+                for (int q = 0; q < 4; ++q) lambda.lambda[q] = 380.f + 10.f * float(std::min(k + q, 40));
+                const SampledSpectrum L = light_arriving(light, d, lambda);
+                for (int q = 0; q < 4 && k + q <= 40; ++q) sum += L[q];
+            }
+        }
+    }
+    return kPiD * radius * radius * sum / 41 * (4 * kPiD / (double(nc) * np));
+}
 
 /// The row's scene with its light made one-sided (and the row renamed).
 Row one_sided(Row row, const Vec3& ref, double power_integral) {
@@ -180,12 +230,18 @@ std::vector<Row> rows() {
                      s.finalize();
                      return s;
                  },
-                 {0, 0, 0}, -3});
+                 {0, 0, 0}, -4});  // -4: an infinite light, integrated numerically below
+    r.push_back({"environment map", [] {
+                     Scene s = empty_scene();
+                     s.set_background(smooth_environment_map());
+                     s.finalize();
+                     return s;
+                 },
+                 {0, 0, 0}, -4});
     return r;
 }
 
 LightSampleContext context(const Vec3& p, const Vec3& n, bool both) { return {p, {0, 0, 0}, n, n, both}; }
-SampledWavelengths wavelengths() { return SampledWavelengths::sample(0.37f); }
 
 /// pdf_li of light 0 for the ray from ctx.p along d, found through the scene (0 on a miss).
 double pdf_along(const Scene& scene, const LightSampleContext& ctx, const Vec3& d) {
@@ -325,7 +381,8 @@ double emitted_by_sample_le(const Light& light, int n) {
     for (int i = 0; i < n; ++i) {
         const auto o = light_sample_le(light, wavelengths(), u(rng), u(rng), u(rng), u(rng), u(rng), 0.f);
         if (!o) continue;
-        const double cos_o = o->delta_position ? 1.0 : std::fabs(dot(o->n, o->w));
+        // An infinite light's disk faces its direction.
+        const double cos_o = o->delta_position || o->infinite ? 1.0 : std::fabs(dot(o->n, o->w));
         sum += o->Le[0] * cos_o / (o->pdf_pos * o->pdf_dir);
     }
     return sum / n;
@@ -345,6 +402,12 @@ TEST(LightContract, PowerIsTheIntegralOfWhatIsEmitted) {
             for (const Triangle& t : scene.triangles)
                 expected += sides * kPiD * 0.5 * length(cross(t.p1 - t.p0, t.p2 - t.p0)) * 1.5;
         }
+        // Infinite lights: power() by the mean over wavelengths, sample_le's by the first.
+        double expected_le = expected;
+        if (row.power_integral == -4) {
+            expected = infinite_power_by_directions(light, float(scene.bounds_radius), false);
+            expected_le = infinite_power_by_directions(light, float(scene.bounds_radius), true);
+        }
         if (row.name == "spot") {
             // ∫ falloff over the sphere by a fine midpoint rule in cos θ about the axis.
             const SpotLight& s = std::get<SpotLight>(light);
@@ -360,7 +423,8 @@ TEST(LightContract, PowerIsTheIntegralOfWhatIsEmitted) {
         EXPECT_NEAR(light_power(light), expected, 1e-3 * expected) << row.name;
         // The same integral through sample_le (its densities must be the ones it samples by).
         const double mc = emitted_by_sample_le(light, 200000);
-        EXPECT_NEAR(mc, expected, 0.02 * expected) << row.name << " (sample_le)";
+        if (row.power_integral != -4) expected_le = expected;
+        EXPECT_NEAR(mc, expected_le, 0.02 * expected_le) << row.name << " (sample_le)";
     }
 }
 

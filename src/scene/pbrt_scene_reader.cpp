@@ -1003,10 +1003,8 @@ private:
             warn_unused(p, "LightSource \"" + type + "\"");
             m_lights.push(std::move(l));
         } else if (type == "infinite") {
-            if (p.has("filename")) {
-                p.find("filename")->used = false;
-                warn(pos, "an infinite light from an image is not supported yet; the light is skipped");
-                for (const PbrtParam& q : p.all()) q.used = true;
+            if (const PbrtParam* f = p.find("filename")) {
+                image_infinite_light(*f, p, m, sc, pos);
                 return;
             }
             if (m_background) warn(pos, "a second infinite light; only the first is kept");
@@ -1016,6 +1014,37 @@ private:
             for (const PbrtParam& q : p.all()) q.used = true;
             warn(pos, "LightSource \"" + type + "\" is not supported; the light is skipped");
         }
+    }
+
+    /// An image infinite light: pbrt-v4's equal-area octahedral map in light space, turned by
+    /// the CTM (pbrt-v4 looks Le up at the light-space direction), times "scale"; or scaled
+    /// to an "illuminance" of its upper (+z) hemisphere. Texels are RGB illuminants as the
+    /// builder reads every environment map (pbrt-v4's RGBIlluminantSpectrum, whose
+    /// photometric normalisation leaves a white texel at luminance 1 × scale).
+    void image_infinite_light(const PbrtParam& f, const PbrtParams& p, const Matrix& m, double scale, SourcePos pos) {
+        if (f.type != "string") fail(f.pos, "\"filename\" of an infinite light is a " + f.type + "; expected \"string filename\"");
+        if (p.has("L")) fail(p.find("L")->pos, "an infinite light with both \"L\" and \"filename\"; expected one of them");
+        if (p.has("portal")) {
+            const PbrtParam* portal = p.find("portal");
+            warn(portal->pos, "an infinite light's \"portal\" is not supported yet; the map lights the scene from every direction, sampled without the portal");
+        }
+        if (m_background) {
+            warn(pos, "a second infinite light; only the first is kept");
+            for (const PbrtParam& q : p.all()) q.used = true;
+            return;
+        }
+        ParamValue bg = ParamValue::dict(pos);
+        bg.set("type", str("image", pos)).set("file", str(p.get_string("filename", ""), f.pos));
+        bg.set("mapping", str("equal_area", pos)).set("transform", matrix_transform(m, pos));
+        const double e_v = p.get_float("illuminance", -1);
+        // pbrt-v4 weighs each upper-hemisphere texel by 2π/N where it covers 4π/N steradians, so
+        // the map it renders has twice the illuminance asked for: kept, so that a file renders
+        // here as it does there.
+        if (e_v > 0) bg.set("illuminance", num(2 * e_v * scale, p.find("illuminance")->pos));
+        else bg.set("scale", num(scale, pos));
+        if (m_state.ctm[0] != m_state.ctm[1]) warn(pos, "a moving light is not supported; the light stays where the shutter opens");
+        warn_unused(p, "LightSource \"infinite\"");
+        m_background = std::move(bg);
     }
 
     void area_light(const std::string& type, const PbrtParams& p, SourcePos pos) {

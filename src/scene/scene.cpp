@@ -89,8 +89,19 @@ void Scene::add_point_light(const Vec3& position, Spectrum intensity) {
 }
 
 void Scene::set_background(Spectrum radiance) {
+    remove_background();
+    if (!radiance.is_zero()) lights.emplace_back(EnvironmentLight{std::move(radiance), {}, 1.f});
+}
+
+void Scene::set_background(EnvironmentMapLight map) {
+    remove_background();
+    lights.emplace_back(std::move(map));
+}
+
+void Scene::remove_background() {
     for (std::size_t i = 0; i < lights.size(); ++i) {
-        if (!std::holds_alternative<EnvironmentLight>(lights[i])) continue;
+        if (!std::holds_alternative<EnvironmentLight>(lights[i]) && !std::holds_alternative<EnvironmentMapLight>(lights[i]))
+            continue;
         lights.erase(lights.begin() + static_cast<std::ptrdiff_t>(i));
         if (i < light_textures.size()) light_textures.erase(light_textures.begin() + static_cast<std::ptrdiff_t>(i));
         // Later lights moved down by one: so must the shapes' indices of them.
@@ -100,7 +111,6 @@ void Scene::set_background(Spectrum radiance) {
         });
         break;
     }
-    if (!radiance.is_zero()) lights.emplace_back(EnvironmentLight{std::move(radiance), {}, 1.f});
 }
 
 int Scene::add_emitter(ShapeKind kind, Spectrum radiance) {
@@ -424,7 +434,7 @@ void Scene::analyse_effects() {
             if (t < 0) continue;
             require(t < static_cast<int>(textures.size()), "an emitter refers to a texture that does not exist");
             require(!std::holds_alternative<PointLight>(lights[i]) && !std::holds_alternative<SpotLight>(lights[i]) &&
-                        !std::holds_alternative<EnvironmentLight>(lights[i]),
+                        light_type(lights[i]) != LightType::infinite,
                     "an emission texture is on a light without surface coordinates (a point or spot light, or "
                     "the background)");
             effects.textures = true;

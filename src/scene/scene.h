@@ -137,6 +137,10 @@ struct Scene : ShapeArrays {
     void add_point_light(const Vec3& position, Spectrum intensity);
     /// Sets the environment's radiance (rays that escape); zero removes it.
     void set_background(Spectrum radiance);
+    /// Makes an environment map the background (in place of any other).
+    void set_background(EnvironmentMapLight map);
+    /// Removes the background (constant or map), if any.
+    void remove_background();
     /// Adds the emitter for a shape of the given kind (a quad's or a mesh's triangles share
     /// one) and returns the index to store in the shapes' `light`.
     int add_emitter(ShapeKind kind, Spectrum radiance);

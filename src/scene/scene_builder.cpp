@@ -13,6 +13,7 @@
 #include <cstring>
 
 #include "geometry/mesh_closure.h"
+#include "io/image_decoders.h"
 #include "io/image_writer.h"
 #include "io/ply_reader.h"
 #include "scene/param_checker.h"
@@ -41,8 +42,7 @@ public:
         camera(required(top, "camera", "the scene"));
         if (const ParamValue* image = top.find("image")) image_settings(*image);
         if (const ParamValue* integrator = top.find("integrator")) integrator_preset(*integrator);
-        if (const ParamValue* bg = top.find("background"))
-            m_scene.set_background(spectrum(*bg, "background", SpectrumUse::Emission));
+        if (const ParamValue* bg = top.find("background")) background(*bg);
         if (const ParamValue* tex = top.find("textures")) m_textures.definitions(*tex);
         if (const ParamValue* mats = top.find("materials")) materials(*mats);
         if (const ParamValue* media = top.find("media")) media_section(*media);
@@ -76,6 +76,81 @@ private:
 
     Spectrum spectrum(const ParamValue& v, const std::string& what, SpectrumUse use) const {
         return m_spectra.spectrum(v, what, use);
+    }
+
+    // ---------------------------- Background ----------------------------
+
+    /// A spectrum (the constant environment) or an environment map, {"type": "image", ...}.
+    void background(const ParamValue& v) {
+        const ParamValue* type = v.is_object() ? v.peek("type") : nullptr;
+        if (!type || !type->is_string() || type->as_string() != "image") {
+            m_scene.set_background(spectrum(v, "background", SpectrumUse::Emission));
+            return;
+        }
+        const std::string what = "background image";
+        v.find("type");
+        const ParamValue& fv = required(v, "file", what);
+        const std::string& file = string(fv, what + " file");
+        EnvironmentMapping mapping = EnvironmentMapping::equirect;
+        if (const ParamValue* m = v.find("mapping"))
+            mapping = choice(*m, what + " mapping", {"equirect", "equal_area"}) == 1 ? EnvironmentMapping::equal_area
+                                                                                    : EnvironmentMapping::equirect;
+        EnvironmentMapLight light;
+        const ParamValue* scale = v.find("scale");
+        const ParamValue* illuminance = v.find("illuminance");
+        if (scale && illuminance)
+            fail(illuminance->pos(), what + " has both \"scale\" and \"illuminance\"; expected one of them");
+        if (scale) light.scale = static_cast<float>(number_in(*scale, what + " scale", 0, 1e30, true));
+        if (const ParamValue* s = v.find("sampling"))
+            light.sampling = choice(*s, what + " sampling", {"importance", "uniform"}) == 1 ? EnvironmentSampling::uniform
+                                                                                           : EnvironmentSampling::importance;
+        if (const ParamValue* c = v.find("mis_compensation")) {
+            if (!c->is_bool()) wrong_type(*c, what + " mis_compensation", "true or false");
+            light.mis_compensation = c->as_bool();
+        }
+        if (const ParamValue* t = v.find("transform")) rotation_of(transform(t), *t, what, light);
+        all_read(v, what);
+        std::string contents, display, error;
+        if (file.empty() || !m_read_relative(file, contents, display, error))
+            fail(fv.pos(), "cannot read environment map " + quote_text(file) + (error.empty() ? "" : ": " + error) +
+                               "; expected a PFM or EXR file path relative to the scene file");
+        try {
+            const DecodedImage img = decode_image(contents);
+            if (img.integer_codes)
+                throw std::invalid_argument("holds integer codes (an 8- or 16-bit image); expected linear radiance (PFM or EXR)");
+            light.map = make_environment_map(img.width, img.height, img.channels, img.values, mapping, light.mis_compensation);
+        } catch (const std::exception& e) {
+            fail(fv.pos(), "environment map " + quote_text(display) + ": " + e.what());
+        }
+        if (illuminance) {
+            const double e = number_in(*illuminance, what + " illuminance", 0, 1e30, true);
+            if (!(light.map->up_illuminance > 0))
+                fail(illuminance->pos(), what + " illuminance: " + quote_text(display) +
+                                             " sends no light from above its horizon; expected a map lit from above, or \"scale\"");
+            light.scale = static_cast<float>(e / light.map->up_illuminance);
+        }
+        m_scene.set_background(std::move(light));
+    }
+
+    /// The rotation of an environment map: the linear part of `tr`, which must turn
+    /// directions without distorting them (a rotation, possibly mirrored, times a uniform
+    /// scale, which leaves directions as they are).
+    void rotation_of(const AffineMap& tr, const ParamValue& at, const std::string& what, EnvironmentMapLight& light) const {
+        const double det = tr.determinant();
+        const double s = std::cbrt(std::fabs(det));
+        double r[3][3];
+        for (int i = 0; i < 3; ++i)
+            for (int j = 0; j < 3; ++j) r[i][j] = tr.a[i][j] / s;
+        // RᵀR = I within rounding.
+        for (int i = 0; i < 3; ++i)
+            for (int j = 0; j < 3; ++j) {
+                const double d = r[0][i] * r[0][j] + r[1][i] * r[1][j] + r[2][i] * r[2][j];
+                if (!(std::fabs(d - (i == j ? 1.0 : 0.0)) < 1e-4))
+                    fail(at.pos(), what + " transform shears or stretches directions; expected a rotation (a mirror "
+                                          "and a uniform scale are allowed)");
+            }
+        for (int i = 0; i < 3; ++i)
+            light.world_from_map[i] = Vec3(static_cast<float>(r[i][0]), static_cast<float>(r[i][1]), static_cast<float>(r[i][2]));
     }
 
     // ---------------------------- Camera and image ----------------------------

@@ -76,6 +76,7 @@
 #include "geometry/ray.h"
 #include "model/lights/area_emission.h"
 #include "model/lights/environment_light.h"
+#include "model/lights/environment_map_light.h"
 #include "model/lights/plane_light.h"
 #include "model/lights/point_light.h"
 #include "model/lights/quad_light.h"
@@ -88,7 +89,7 @@ namespace spt {
 
 using Light =
     std::variant<PointLight, SphereLight, QuadLight, TriangleMeshLight, QuadricLight, PlaneLight, EnvironmentLight,
-                 SpotLight>;
+                 SpotLight, EnvironmentMapLight>;
 
 /// A set of LightTypes, for visit_light_of.
 constexpr unsigned light_types(std::initializer_list<LightType> types) {
