@@ -65,7 +65,8 @@ std::shared_ptr<const EnvironmentMap> make_environment_map(int width, int height
             }
             // Neighbouring texels are often equal (skies, synthetic maps): fitted once.
             if (rgb != previous) {
-                fitted = rgb_illuminant(rgb);
+                // A grey texel g is g·D65 exactly: the flat shape ½ (all coefficients 0) times 2g.
+                fitted = rgb[0] == rgb[1] && rgb[1] == rgb[2] ? RgbIlluminant{{0.f, 0.f, 0.f}, 2.f * rgb[0]} : rgb_illuminant(rgb);
                 previous = rgb;
                 double sum = 0;
                 for (int k = 0; k <= 40; ++k) sum += m->eval(fitted, 380.f + 10.f * static_cast<float>(k));
