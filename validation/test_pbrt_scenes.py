@@ -36,7 +36,7 @@ def test_the_set_covers_the_mappings() -> None:
 
 def test_texture_files_are_the_generated_ones(tmp_path: Path) -> None:
     make_textures.main(tmp_path)
-    for name in ("texture_linear.pfm", "texture_srgb.png"):
+    for name in ("texture_linear.pfm", "texture_srgb.png", "envmap_sky.pfm"):
         assert (tmp_path / name).read_bytes() == (SCENES_DIR / name).read_bytes(), f"{name}: rerun make_textures.py"
 
 
