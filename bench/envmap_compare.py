@@ -172,7 +172,7 @@ def main(argv: list[str] | None = None) -> int:
     write_pfm(map_file, sky)
     variants = {
         "importance": {},
-        "importance, compensated": {"compensated": True},
+        "importance, MIS-compensated": {"mis_compensation": True},
         "uniform": {"sampling": "uniform"},
     }
     rows = []
