@@ -15,8 +15,8 @@ reference's own noise, subtracted from every relMSE):
   call takes --seconds.
 
 relMSE = mean over pixels and channels of (x - ref)^2 / (ref^2 + 1e-2); efficiency =
-1 / (relMSE * time). Writes a Markdown table to --out (default bench/results/envmap_compare.md)
-with the command that made it. Run with nothing else busy on the machine:
+1 / (relMSE * time). Prints a Markdown table with the command that made it (and writes it to
+--out if given). Run with nothing else busy on the machine:
 
     python bench/envmap_compare.py --program build/pathtracer --seconds 10 \
         --mitsuba-python /path/to/venv/bin/python
@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import re
 import shlex
 import subprocess
 import sys
@@ -141,16 +142,15 @@ def rel_mse(x: np.ndarray, ref: np.ndarray) -> float:
 
 def render_ours(program: Path, scene: Path, out: Path, seed: int, *, seconds: float = 0, spp: int = 0,
                 threads: int) -> tuple[np.ndarray, float, int]:
-    cmd = [str(program), str(scene), "-o", str(out), "--quiet", "--print-passes",
-           "--seed", str(seed), "--threads", str(threads)]
+    cmd = [str(program), str(scene), "-o", str(out), "--seed", str(seed), "--threads", str(threads)]
     cmd += ["--time-limit", str(seconds), "--pass-spp", "1", "--spp", "1000000"] if seconds else ["--spp", str(spp)]
     t = time.perf_counter()
     r = subprocess.run(cmd, capture_output=True, text=True)
     elapsed = time.perf_counter() - t
     if r.returncode != 0:
         raise SystemExit(f"{shlex.join(cmd)} failed:\n{r.stderr}")
-    done = [int(line.split()[1]) for line in r.stdout.splitlines() if line.startswith("spp ")]
-    return read_pfm(out), elapsed, done[0] if done else spp
+    done = re.search(r"(\d+) spp \(of \d+ requested\)", r.stderr)
+    return read_pfm(out), elapsed, int(done.group(1)) if done else spp
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -163,7 +163,7 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--threads", type=int, default=2)
     ap.add_argument("--seeds", type=int, default=3, help="equal-time renders per variant")
     ap.add_argument("--mitsuba-python", type=Path, help="a Python with mitsuba 3 (optional)")
-    ap.add_argument("--out", type=Path, default=ROOT / "bench" / "results" / "envmap_compare.md")
+    ap.add_argument("--out", type=Path, help="also write the table to this Markdown file")
     args = ap.parse_args(argv)
 
     work = Path(tempfile.mkdtemp(prefix="envmap_compare_"))
@@ -240,8 +240,8 @@ def main(argv: list[str] | None = None) -> int:
     if cross is not None:
         lines += ["", f"The two references against each other: relMSE {cross:.2e} (spectral upsampling, "
                       "materials' data and the ground's extent differ slightly; the table compares noise only)."]
-    args.out.parent.mkdir(parents=True, exist_ok=True)
-    args.out.write_text("\n".join(lines) + "\n")
+    if args.out:
+        args.out.write_text("\n".join(lines) + "\n")
     print("\n".join(lines))
     return 0
 
