@@ -18,26 +18,15 @@
 #include <tuple>
 
 #include "io/image_decoders.h"
+#include "texture_files.h"
 
 namespace spt {
 namespace {
 
+using test::read_test_file;
+using test::expect_decode_error;
+
 constexpr int kW = 37, kH = 21;  // make_hdr_test_images.cpp's image size
-
-std::string read_test_file(const std::string& name) {
-    std::ifstream in(std::filesystem::path(SPT_TEST_DIR) / "textures" / name, std::ios::binary);
-    EXPECT_TRUE(in) << name;
-    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
-void expect_decode_error(const std::string& bytes, const std::string& expected) {
-    try {
-        decode_image(bytes);
-        ADD_FAILURE() << "no error; expected one containing: " << expected;
-    } catch (const ImageDecodeError& e) {
-        EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
-    }
-}
 
 /// The changes made to single bytes of a good file: the lowest bit, the highest, all.
 constexpr unsigned kFlips[3] = {0x01, 0x80, 0xff};

@@ -10,15 +10,12 @@
 
 #include "io/checksums.h"
 #include "io/inflate.h"
+#include "texture_files.h"
 
 namespace spt {
 namespace {
 
-std::string read_test_file(const std::string& name) {
-    std::ifstream in(std::filesystem::path(SPT_TEST_DIR) / "textures" / name, std::ios::binary);
-    EXPECT_TRUE(in) << name;
-    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
+using test::read_test_file;
 
 /// The payload the script compressed (its formula, repeated here).
 std::vector<std::uint8_t> payload() {

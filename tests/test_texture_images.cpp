@@ -12,9 +12,13 @@
 #include "io/image_decoders.h"
 #include "io/image_encoders.h"
 #include "io/image_writer.h"
+#include "texture_files.h"
 
 namespace spt {
 namespace {
+
+using test::read_test_file;
+using test::expect_decode_error;
 
 constexpr int kW = 5, kH = 6;  // the test images' size (make_texture_files.py)
 
@@ -23,12 +27,6 @@ unsigned code(int x, int y, int c, int depth) { return unsigned(x * 37 + y * 71 
 
 std::array<unsigned, 3> palette_entry(unsigned i) {
     return {(i * 53 + 7) % 256, (i * 101 + 3) % 256, (i * 29 + 200) % 256};
-}
-
-std::string read_test_file(const std::string& name) {
-    std::ifstream in(std::filesystem::path(SPT_TEST_DIR) / "textures" / name, std::ios::binary);
-    EXPECT_TRUE(in) << name;
-    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
 TEST(PngDecoder, EveryColourTypeAndBitDepth) {
@@ -71,15 +69,6 @@ TEST(PngDecoder, PalettesAndTheirAlpha) {
     ASSERT_EQ(img.channels, 4);
     for (int y = 0; y < kH; ++y)
         for (int x = 0; x < kW; ++x) ASSERT_EQ(img.at(x, y, 3), float((code(x, y, 0, 8) * 3) % 256) / 255.f);
-}
-
-void expect_decode_error(const std::string& bytes, const std::string& expected) {
-    try {
-        decode_image(bytes);
-        ADD_FAILURE() << "no error; expected one containing: " << expected;
-    } catch (const ImageDecodeError& e) {
-        EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
-    }
 }
 
 TEST(PngDecoder, InterlacedTruncatedAndCorruptFilesAreClearErrors) {
