@@ -318,6 +318,36 @@ TEST(BdptMedia, AbsorbingMediumAroundTheCameraScalesEveryStrategyByItsTransmitta
     EXPECT_GT(ma.mean, 0.0);
 }
 
+/// A grey ball under a constant white environment, seen from inside fog: the fog fills all
+/// space (`bounded` false) or a sphere of radius 2 around the camera and the ball.
+Scene environment_through_fog(bool bounded) {
+    const std::string boundary = bounded ? R"(, {"type": "sphere", "center": [0, 0, 0], "radius": 2,
+                                                "interior": "fog", "exterior": "vacuum"})"
+                                         : "";
+    return bdpt_scene(R"({"camera": {"position": [0, 0, 1.5], "look_at": [0, 0, 0], "vfov_degrees": 50},
+        "media": {"fog": {"type": "homogeneous", "sigma_a": 0.05, "sigma_s": 0.3}}, "medium": "fog",
+        "background": 1, "materials": {"grey": {"kd": 0.7}},
+        "shapes": [{"type": "sphere", "center": [0, 0, 0], "radius": 0.5, "material": "grey",
+                    "interior": "fog", "exterior": "fog"})" + boundary + "]}",
+                      bounded ? "fog around the scene" : "fog everywhere");
+}
+
+TEST(BdptMedia, EnvironmentReachesNothingThroughFogThatFillsAllSpace) {
+    // Light from infinity crosses an infinite stretch of fog: nothing arrives, in either
+    // integrator (bdpt's light subpaths start on the bounding disk, inside the fog).
+    const Scene scene = environment_through_fog(false);
+    for (const IntegratorKind kind : {IntegratorKind::path, IntegratorKind::bdpt}) {
+        RenderSettings rs = test::small_settings(16, 16, 16, 81);
+        rs.integrator.kind = kind;
+        EXPECT_EQ(test::image_mean_y(*test::render_film(scene, rs)).mean, 0.0) << integrator_name(kind);
+    }
+}
+
+TEST(BdptMedia, EnvironmentThroughABoundedFogMatchesThePathTracer) {
+    const auto film = expect_bdpt_renders_match_path(environment_through_fog(true), 91);
+    EXPECT_GT(test::image_mean_y(*film).mean, 0.0);
+}
+
 TEST(BdptMedia, ThreadCountDoesNotChangeTheFilmAndEveryPixelIsFinite) {
     const Scene scene = spot_in_haze();
     RenderSettings rs = test::small_settings(16, 16, 8, 71, 1);

@@ -5,6 +5,7 @@
 
 #include "model/bsdfs/bsdf.h"
 #include "render/bdpt_media.h"
+#include "render/medium_tracking.h"
 
 namespace spt {
 
@@ -476,9 +477,17 @@ void Bdpt::trace_light() {
         v.pdf_fwd = o->pdf_dir;
         m_light.push_back(v);
         const int medium = m_media ? medium_at(m_scene, m_ctx.camera.origin(), o->p, m_stats) : -1;
-        if (!o->blocked)
-            random_walk({o->p, o->w, kInfinity}, o->Le / (o->pdf_pos * o->pdf_dir), o->pdf_pos, max_depth() + 1,
-                        Transport::importance, lambda_light, m_light, medium);
+        SampledSpectrum beta = o->Le / (o->pdf_pos * o->pdf_dir);
+        // A medium at the disk fills all space beyond it: the light crosses an infinite
+        // stretch of it before the disk, and the path tracer's rays never escape it either.
+        if (medium >= 0) {
+            SampledSpectrum sigma_a, sigma_s;
+            m_scene.media[static_cast<std::size_t>(medium)].coefficients(lambda_light, sigma_a, sigma_s);
+            beta *= majorant_transmittance(sigma_a + sigma_s, kInfinity);
+        }
+        if (!o->blocked && !beta.is_zero())
+            random_walk({o->p, o->w, kInfinity}, beta, o->pdf_pos, max_depth() + 1, Transport::importance,
+                        lambda_light, m_light, medium);
         return;
     }
     v.hit.p = o->p;
