@@ -49,6 +49,7 @@ set(SPT_CORE_SOURCES
     src/render/checkpoint.cpp
     src/render/film.cpp
     src/render/integrator.cpp
+    src/render/light_bvh.cpp
     src/render/light_sampling.cpp
     src/render/renderer.cpp
     src/render/sphere_chains.cpp

@@ -22,6 +22,7 @@ std::vector<std::string> ineffective_flag_warnings(const Options& options, const
     } rules[] = {
         {"--merge-radius", integrator.kind != IntegratorKind::vcm, "with the " + kind + " integrator (vcm only)"},
         {"--light-sampling", integrator.kind != IntegratorKind::path, "with the " + kind + " integrator (path only)"},
+        {"--light-selection", integrator.kind != IntegratorKind::path, "with the " + kind + " integrator (path only)"},
         {"--caustic-nee", integrator.kind != IntegratorKind::path || !scene.effects.caustic_spheres,
          "without the path integrator and a smooth glass sphere under an emitting sphere or quad"},
         {"--plane-nee", integrator.kind != IntegratorKind::path ||

@@ -24,6 +24,7 @@ IntegratorChoice choose_integrator(const Options& options, const Scene& scene) {
     s.wavelengths_per_path = options.wavelengths_per_path;
     s.caustic_nee = options.caustic_nee;
     s.sample_planes = options.plane_nee;
+    s.light_selection = options.light_selection;
     // Effects an integrator cannot render: a usage error, never a wrong image.
     const char* feature = nullptr;
     const char* instead = "--integrator path";

@@ -69,7 +69,7 @@ const std::vector<std::string>& known_flags() {
         "--spectral-range", "--sensor", "--preview-interval", "--display-server", "--threads", "--tile", "--queue",
         "--schedule", "--seed",
         "--checkpoint", "--resume", "--checkpoint-interval", "--time-limit", "--wavelengths-per-path",
-        "--integrator", "--light-sampling", "--caustic-nee", "--plane-nee", "--merge-radius", "--no-dispersion", "--no-bvh", "--strict", "--pass-spp", "--max-depth",
+        "--integrator", "--light-sampling", "--light-selection", "--caustic-nee", "--plane-nee", "--merge-radius", "--no-dispersion", "--no-bvh", "--strict", "--pass-spp", "--max-depth",
         "--passes", "--print-passes", "--sampler"};
     return flags;
 }
@@ -160,6 +160,10 @@ Options:
                          multiple importance sampling), bsdf (emitters found only by paths
                          that hit them) or light (light sampling alone); to measure what MIS
                          buys. Point lights are always sampled
+  --light-selection MODE path: how next-event estimation chooses one light: power (default:
+                         in proportion to power) or bvh (a light BVH: by likely contribution
+                         to the shading point, each emitting triangle on its own; for scenes
+                         with many lights). A scene with one light renders the same either way
   --caustic-nee on|off   path with --light-sampling mis: specular next-event estimation
                          through smooth glass spheres and off shiny ones (caustics of
                          emitting spheres and quads under glass balls and reflected by
@@ -393,6 +397,13 @@ Options parse_options(const std::vector<std::string>& args) {
             if (!o.light_sampling)
                 throw UsageError(flag + ": expected mis, bsdf or light, got '" + v + "'." +
                                  suggestion(v, light_sampling_names()));
+        } else if (flag == "--light-selection") {
+            const std::string v = next_value();
+            const std::optional<LightSelection> mode = light_selection_from_name(v);
+            if (!mode)
+                throw UsageError(flag + ": expected power or bvh, got '" + v + "'." +
+                                 suggestion(v, light_selection_names()));
+            o.light_selection = *mode;
         } else if (flag == "--caustic-nee") {
             const std::string v = next_value();
             if (v != "on" && v != "off")

@@ -49,6 +49,7 @@ struct Options {
     int wavelengths_per_path = 4;  ///< 1 or 4
     bool caustic_nee = true;       ///< --caustic-nee (path, light sampling mis)
     bool plane_nee = true;         ///< --plane-nee (path: sample emitting infinite planes)
+    LightSelection light_selection = LightSelection::power;  ///< --light-selection (path)
     std::optional<SamplerKind> sampler;  ///< --sampler (default: default_sampler)
     bool dispersion = true;        ///< false: dispersive glass gets its mean index
     bool strict = false;           ///< every warning about the scene is an error (--strict)

@@ -33,6 +33,7 @@ RenderDescription describe_render(const Options& o, const RenderSettings& rs, co
     r.wavelengths_per_path = o.wavelengths_per_path;
     r.caustic_nee = rs.integrator.caustic_nee;
     r.plane_nee = rs.integrator.sample_planes;
+    r.light_selection = rs.integrator.light_selection;
     r.dispersion = o.dispersion;
     r.merge_radius = rs.integrator.kind == IntegratorKind::vcm ? rs.integrator.merge_radius : 0.f;
     r.program = program_build_id();
@@ -54,6 +55,7 @@ RenderSettings settings_of(const RenderDescription& r) {
     rs.integrator.wavelengths_per_path = r.wavelengths_per_path;
     rs.integrator.caustic_nee = r.caustic_nee;
     rs.integrator.sample_planes = r.plane_nee;
+    rs.integrator.light_selection = r.light_selection;
     rs.integrator.merge_radius = r.merge_radius;
     return rs;
 }

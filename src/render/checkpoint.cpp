@@ -56,6 +56,7 @@ std::string header(const CheckpointInfo& info, FilmFile kind) {
       << "wavelengths-per-path " << r.wavelengths_per_path << '\n'
       << "caustic-nee " << on_off(r.caustic_nee) << '\n'
       << "plane-nee " << on_off(r.plane_nee) << '\n'
+      << "light-selection " << light_selection_name(r.light_selection) << '\n'
       << "dispersion " << on_off(r.dispersion) << '\n'
       << "merge-radius " << radius << '\n'
       << "program " << hex(r.program) << '\n';
@@ -193,6 +194,8 @@ Parsed parse(const std::string& path, const std::string& bytes, FilmFile kind) {
             r.wavelengths_per_path = h.integer("wavelengths-per-path", 1, kLambdaCount);
         } else if (key == "caustic-nee") r.caustic_nee = h.flag("caustic-nee");
         else if (key == "plane-nee") r.plane_nee = h.flag("plane-nee");
+        else if (key == "light-selection")
+            r.light_selection = h.name("light-selection", kLightSelectionModes, light_selection_name);
         else if (key == "dispersion") r.dispersion = h.flag("dispersion");
         else if (key == "merge-radius") r.merge_radius = h.non_negative("merge-radius");
         else if (key == "program") r.program = h.hex64("program");
@@ -260,6 +263,8 @@ std::string RenderDescription::difference(const RenderDescription& o) const {
         return differs("wavelengths per path", wavelengths_per_path, o.wavelengths_per_path);
     if (caustic_nee != o.caustic_nee) return differs("caustic NEE", on_off(caustic_nee), on_off(o.caustic_nee));
     if (plane_nee != o.plane_nee) return differs("plane NEE", on_off(plane_nee), on_off(o.plane_nee));
+    if (light_selection != o.light_selection)
+        return differs("light selection", light_selection_name(light_selection), light_selection_name(o.light_selection));
     if (dispersion != o.dispersion) return differs("dispersion", on_off(dispersion), on_off(o.dispersion));
     if (merge_radius != o.merge_radius) return differs("merge radius", merge_radius, o.merge_radius);
     for (const auto& [name, hash] : inputs) {

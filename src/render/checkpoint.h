@@ -29,6 +29,8 @@ struct RenderDescription {
     SamplerKind sampler = SamplerKind::independent;
     int wavelengths_per_path = 4;
     bool caustic_nee = true, plane_nee = true, dispersion = true;
+    /// Files without the field were rendered by power.
+    LightSelection light_selection = LightSelection::power;
     float merge_radius = 0.f;  ///< vcm's first-pass radius; 0: the default
     std::uint64_t program = 0;
     std::vector<std::pair<std::string, std::uint64_t>> inputs;

@@ -12,6 +12,7 @@
 #include "model/bsdfs/bsdf.h"
 #include "model/lights/light.h"
 #include "render/mis.h"
+#include "render/nee_light_choice.h"
 #include "scene/scene.h"
 
 namespace spt {
@@ -76,7 +77,7 @@ struct ShadowRay {
     return {spawn_ray_between(hit.p, hit.p_err, hit.n, ls.p, ls.p_err, ls.n), {}};
 }
 
-/// One light other than points and spots, chosen by power, with its shadow ray (and the
+/// One light other than points and spots, chosen by `choices`, with its shadow ray (and the
 /// light's own shapes the ray may skip).
 struct AreaLightRay {
     Ray shadow;
@@ -91,13 +92,15 @@ struct AreaLightRay {
 /// texture's radiance at the sampled point. nullopt when the sample cannot contribute.
 template <bool kTextured>
 [[gnu::always_inline]] inline std::optional<AreaLightRay> area_light_ray(
-    const Scene& scene, const LightDistribution& choices, const Bsdf& bsdf, const Hit& hit,
+    const Scene& scene, const NeeLightChoice& choices, const Bsdf& bsdf, const Hit& hit,
     const LightSampleContext& ctx, const Vec3& wo, const SampledWavelengths& lambda, float u_light, float u1,
     float u2) {
     float choice = 0.f;
-    const int index = choices.sample(u_light, choice);
-    std::optional<LightSample> ls = light_sample_li(scene.lights[index], ctx, lambda, u1, u2);
-    if (!ls) return std::nullopt;
+    int triangle = -1;
+    const int index = choices.sample(ctx, u_light, choice, triangle);
+    if (index < 0) return std::nullopt;
+    std::optional<LightSample> ls{std::in_place};
+    if (!light_sample_li_on(scene.lights[index], triangle, ctx, lambda, u1, u2, *ls)) return std::nullopt;
     if constexpr (kTextured)
         if (scene.light_textured(index)) ls->L = scene.light_point_emission(index, ls->p, ls->triangle, lambda);
     const SampledSpectrum f_cos = bsdf_eval(bsdf, wo, ls->wi, hit.ns, lambda, TransportMode::radiance);
@@ -118,10 +121,10 @@ template <bool kTextured>
 
 /// MIS weight of emission that BSDF sampling found along `wi` from `prev` (light `index`,
 /// reached at `hit`, or escaped when hit is null) against sampling that light directly.
-[[gnu::noinline]] inline float emission_weight(const Scene& scene, const LightDistribution& choices, int index,
+[[gnu::noinline]] inline float emission_weight(const Scene& scene, const NeeLightChoice& choices, int index,
                                                const LightSampleContext& prev, float pdf_bsdf, const Vec3& wi,
                                                const Hit* hit) {
-    const float choice = choices.probability(index);
+    const float choice = choices.probability(prev, index, hit);
     if (choice == 0.f) return 1.f;  // a light that next-event estimation never samples
     return power_heuristic(pdf_bsdf, choice * light_pdf_li(scene.lights[index], prev, wi, hit));
 }

@@ -48,7 +48,7 @@ namespace {
     return Ld;
 }
 
-/// Direct light from one of the other lights, chosen by power, through one shadow ray,
+/// Direct light from one of the other lights, chosen by `choices`, through one shadow ray,
 /// weighted against BSDF sampling by the power heuristic (Veach 1997, §9.2). Flattened (all
 /// its callees inlined into it, the shadow ray's offsets above all: as calls they cost a
 /// large share of the time per path); itself out of line, so the path loop stays small.
@@ -56,13 +56,15 @@ namespace {
 /// texture's radiance at the sampled point.
 template <bool kTextured>
 [[gnu::noinline, gnu::flatten]] SampledSpectrum sample_area_light(
-    const Scene& scene, const LightDistribution& choices, const Bsdf& bsdf, const Hit& hit,
+    const Scene& scene, const NeeLightChoice& choices, const Bsdf& bsdf, const Hit& hit,
     const LightSampleContext& ctx, const Vec3& wo, const SampledWavelengths& lambda, float time, float u_light,
     float u1, float u2, bool mis, PathStats& stats) {
     float choice = 0.f;
-    const int index = choices.sample(u_light, choice);
+    int triangle = -1;
+    const int index = choices.sample(ctx, u_light, choice, triangle);
+    if (index < 0) return SampledSpectrum(0.f);
     LightSample ls;
-    if (!light_sample_li(scene.lights[index], ctx, lambda, u1, u2, ls)) return SampledSpectrum(0.f);
+    if (!light_sample_li_on(scene.lights[index], triangle, ctx, lambda, u1, u2, ls)) return SampledSpectrum(0.f);
     if constexpr (kTextured)
         if (scene.light_textured(index)) ls.L = scene.light_point_emission(index, ls.p, ls.triangle, lambda);
     const SampledSpectrum f_cos = bsdf_eval(bsdf, wo, ls.wi, hit.ns, lambda, TransportMode::radiance);
@@ -96,8 +98,7 @@ template <bool kTextured, bool kCaustic, class Sampler>
     const bool point_nee = scene.effects.point_lights;
     // Lights other than points are sampled only when the scene has them: scenes without
     // them draw no random numbers for it.
-    const LightDistribution& choices =
-        settings.sample_planes ? scene.area_light_choice_with_planes : scene.area_light_choice;
+    const NeeLightChoice choices(scene, settings);
     const bool area_nee = settings.light_sampling != LightSampling::bsdf && !choices.empty();
     EmissionMis mis;
     [[maybe_unused]] std::conditional_t<kCaustic, SphereChainNee, NoScratch> chains;
@@ -129,7 +130,7 @@ template <bool kTextured, bool kCaustic, class Sampler>
         const Bsdf& bsdf = *bsdf_at_hit;
 
         // ---- Next-event estimation at vertices with a non-delta lobe: every point light,
-        // one other light chosen by power, and the specular chains ----
+        // one other light (render/nee_light_choice.h), and the specular chains ----
         const bool non_delta = mat.has_non_delta();
         if (point_nee && non_delta) L += beta * sample_point_lights(scene, bsdf, *hit, wo, lambda, time, stats);
         LightSampleContext ctx;

@@ -1,6 +1,6 @@
 // Unidirectional path tracing (Kajiya) with Russian roulette and next-event estimation: every
 // point light at each vertex with a non-delta lobe, and one other light (emitting shapes,
-// emitting planes, infinite lights) chosen by power, combined with BSDF sampling by multiple
+// emitting planes, infinite lights) chosen by power or by a light BVH (render/nee_light_choice.h), combined with BSDF sampling by multiple
 // importance sampling (power heuristic).
 #pragma once
 #include <cstdint>
@@ -27,6 +27,8 @@ struct IntegratorSettings {
     bool roulette = true;
     int roulette_depth = 3;      ///< first bounce at which roulette may end a path
     LightSampling light_sampling = LightSampling::mis;
+    /// How next-event estimation chooses its light (integrator_kind.h).
+    LightSelection light_selection = LightSelection::power;
     /// Next-event estimation to emitting infinite planes too (path, volumetric path and
     /// wavefront; bdpt and vcm never sample planes: they cannot start light subpaths). On by
     /// default: the sampler of what the other planes leave open (model/lights/plane_light.h,

@@ -23,6 +23,11 @@ enum class IntegratorKind { path, bdpt, vcm };
 /// last two exist to measure what MIS buys and to test it.
 enum class LightSampling { mis, bsdf, light };
 
+/// How next-event estimation chooses one light (path, volumetric path, wavefront): by power
+/// alone, or by its likely contribution to the shading point (the light BVH,
+/// render/light_bvh.h). A scene with one light to choose from samples it either way.
+enum class LightSelection { power, bvh };
+
 /// The command-line name of an integrator.
 constexpr const char* integrator_name(IntegratorKind kind) {
     switch (kind) {
@@ -42,8 +47,14 @@ constexpr const char* light_sampling_name(LightSampling mode) {
     return "mis";
 }
 
+/// The name of a light-selection mode.
+constexpr const char* light_selection_name(LightSelection mode) {
+    return mode == LightSelection::bvh ? "bvh" : "power";
+}
+
 inline constexpr IntegratorKind kIntegratorKinds[] = {IntegratorKind::path, IntegratorKind::bdpt, IntegratorKind::vcm};
 inline constexpr LightSampling kLightSamplingModes[] = {LightSampling::mis, LightSampling::bsdf, LightSampling::light};
+inline constexpr LightSelection kLightSelectionModes[] = {LightSelection::power, LightSelection::bvh};
 
 /// The value whose name is `name` (ignoring case), or nullopt. Use: name_lookup(kIntegratorKinds,
 /// integrator_name, text).
@@ -67,6 +78,10 @@ inline std::optional<IntegratorKind> integrator_from_name(std::string_view name)
 inline std::optional<LightSampling> light_sampling_from_name(std::string_view name) {
     return name_lookup(kLightSamplingModes, light_sampling_name, name);
 }
+inline std::optional<LightSelection> light_selection_from_name(std::string_view name) {
+    return name_lookup(kLightSelectionModes, light_selection_name, name);
+}
+inline std::vector<std::string> light_selection_names() { return names_of(kLightSelectionModes, light_selection_name); }
 inline std::vector<std::string> integrator_names() { return names_of(kIntegratorKinds, integrator_name); }
 inline std::vector<std::string> light_sampling_names() { return names_of(kLightSamplingModes, light_sampling_name); }
 

@@ -25,7 +25,7 @@ struct EmissionMis {
 
     /// The weight of emission from light `index` that BSDF sampling found along `wi` (at
     /// `hit`, or escaped when hit is null) against sampling that light directly.
-    [[gnu::always_inline]] float weight(const Scene& scene, const LightDistribution& choices, int index,
+    [[gnu::always_inline]] float weight(const Scene& scene, const NeeLightChoice& choices, int index,
                                         const Vec3& wi, const Hit* hit) const {
         return on ? emission_weight(scene, choices, index, prev_ctx, prev_pdf, wi, hit) : 1.f;
     }

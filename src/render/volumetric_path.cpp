@@ -39,9 +39,9 @@ struct ScatterPoint {
 };
 
 /// Direct light at a scattering point: every delta light (point, spot) and one other light
-/// chosen by power, each through segment_transmittance; r_p is the path's r_u so far.
+/// chosen by NeeLightChoice, each through segment_transmittance; r_p is the path's r_u so far.
 template <typename Eval>
-SampledSpectrum direct_light(const Scene& scene, const IntegratorSettings& settings, const LightDistribution& choices,
+SampledSpectrum direct_light(const Scene& scene, const IntegratorSettings& settings, const NeeLightChoice& choices,
                              bool area_nee, const ScatterPoint& sp, const LightSampleContext& ctx, const Eval& eval,
                              const SampledSpectrum& r_p, const SampledWavelengths& lambda, Rng& rng,
                              PathStats& stats) {
@@ -62,10 +62,12 @@ SampledSpectrum direct_light(const Scene& scene, const IntegratorSettings& setti
     if (!area_nee) return Ld;
 
     float choice = 0.f;
-    const int index = choices.sample(rng.uniform(), choice);
+    int triangle = -1;
+    const int index = choices.sample(ctx, rng.uniform(), choice, triangle);
     const float u1 = rng.uniform(), u2 = rng.uniform();
-    std::optional<LightSample> ls = light_sample_li(scene.lights[index], ctx, lambda, u1, u2);
-    if (!ls) return Ld;
+    if (index < 0) return Ld;
+    std::optional<LightSample> ls{std::in_place};
+    if (!light_sample_li_on(scene.lights[index], triangle, ctx, lambda, u1, u2, *ls)) return Ld;
     if (scene.light_textured(index)) ls->L = scene.light_point_emission(index, ls->p, ls->triangle, lambda);
     const ScatterEval se = eval(ls->wi);
     if (se.f.is_zero()) return Ld;
@@ -144,8 +146,7 @@ SegmentTransmittance segment_transmittance(const Scene& scene, Ray ray, int medi
     SampledSpectrum L(0.f), beta(1.f), r_u(1.f), r_l(1.f);
     float eta_scale = 1.f;
     int medium = scene.camera_medium;
-    const LightDistribution& choices =
-        settings.sample_planes ? scene.area_light_choice_with_planes : scene.area_light_choice;
+    const NeeLightChoice choices(scene, settings);
     const bool area_nee = settings.light_sampling != LightSampling::bsdf && !choices.empty();
     const bool delta_nee = scene.effects.point_lights;
     // Emission found after a non-delta scattering event, which light sampling could also
@@ -161,7 +162,7 @@ SegmentTransmittance segment_transmittance(const Scene& scene, Ray ray, int medi
             L += beta * Le / mean_active(r_u, lambda);
             return;
         }
-        const float choice = choices.probability(index);
+        const float choice = choices.probability(prev_ctx, index, hit);
         if (choice == 0.f) {  // a light that next-event estimation never samples
             L += beta * Le / mean_active(r_u, lambda);
         } else if (settings.light_sampling == LightSampling::mis) {

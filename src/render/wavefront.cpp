@@ -43,7 +43,7 @@ struct Wavefront::ShadowRay {
 };
 
 /// The light samples of one path's vertex: its point and spot lights' rays, then (area) the
-/// one light chosen by power (its ray last, if it has one).
+/// one light chosen by NeeLightChoice (its ray last, if it has one).
 struct Wavefront::NeeRecord {
     std::uint32_t path;
     std::uint32_t first_ray, point_rays;
@@ -177,8 +177,7 @@ void Wavefront::generate(int begin, int end) {
 // ---- intersect: "find the next vertex; escaping rays see the infinite lights" ----
 void Wavefront::intersect(int begin, int end, ChunkQueues& out, PathStats& stats) {
     out.paths.clear();
-    const LightDistribution& choices =
-        m_settings.integrator.sample_planes ? m_scene.area_light_choice_with_planes : m_scene.area_light_choice;
+    const NeeLightChoice choices(m_scene, m_settings.integrator);
     for (int q = begin; q < end; ++q) {
         const std::uint32_t i = m_queue[static_cast<std::size_t>(q)];
         PathState& path = m_paths[i];
@@ -203,8 +202,7 @@ void Wavefront::shade(int begin, int end, ChunkQueues& out, PathStats& stats) {
     const Scene& scene = m_scene;
     const IntegratorSettings& settings = m_settings.integrator;
     const bool point_nee = scene.effects.point_lights;
-    const LightDistribution& choices =
-        settings.sample_planes ? scene.area_light_choice_with_planes : scene.area_light_choice;
+    const NeeLightChoice choices(scene, settings);
     const bool area_nee = settings.light_sampling != LightSampling::bsdf && !choices.empty();
     for (int q = begin; q < end; ++q) {
         const std::uint32_t i = m_queue[static_cast<std::size_t>(q)];

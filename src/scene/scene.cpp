@@ -606,6 +606,23 @@ void Scene::finalize_lights() {
         area_power[i] = light_power(light);
     }
     area_light_choice_with_planes.build(area_power);
+    light_bvh = LightBvh{};
+    if (area_light_choice_with_planes.size() > 1) {
+        // A mesh light's triangles are found from a hit when they are consecutive in `triangles`.
+        std::vector<int> first(lights.size(), -1), count(lights.size(), 0);
+        std::vector<char> split(lights.size(), 0);
+        for (std::size_t t = 0; t < triangles.size(); ++t) {
+            const int l = triangles[t].light;
+            if (l < 0 || !std::holds_alternative<TriangleMeshLight>(lights[static_cast<std::size_t>(l)])) continue;
+            const std::size_t li = static_cast<std::size_t>(l);
+            if (count[li] == 0) first[li] = static_cast<int>(t);
+            else if (first[li] + count[li] != static_cast<int>(t)) split[li] = 1;
+            ++count[li];
+        }
+        for (std::size_t i = 0; i < lights.size(); ++i)
+            if (split[i]) first[i] = -1;
+        light_bvh.build(lights, area_power, first);
+    }
     for (std::size_t i = 0; i < lights.size(); ++i)
         if (std::holds_alternative<PlaneLight>(lights[i])) area_power[i] = 0.f;
     area_light_choice.build(area_power);

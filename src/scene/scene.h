@@ -21,6 +21,7 @@
 #include "model/material.h"
 #include "model/textures/texture.h"
 #include "render/integrator_kind.h"
+#include "render/light_bvh.h"
 #include "render/sphere_chains.h"
 #include "scene/effects.h"
 
@@ -124,6 +125,9 @@ struct Scene : ShapeArrays {
     std::vector<int> spot_light_indices;  ///< sampled like the point lights
     LightDistribution area_light_choice;
     LightDistribution area_light_choice_with_planes;
+    /// The same lights in a light BVH (render/light_bvh.h), built when there are at least two
+    /// of them (one light is chosen with probability 1 by either).
+    LightBvh light_bvh;
     std::vector<int> infinite_light_indices;
     /// Next-event strategies beyond the light sampler, prepared by finalize() (each holds its
     /// own tables): specular chains through and off spheres (effects.caustic_spheres).

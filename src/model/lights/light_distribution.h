@@ -28,6 +28,8 @@ public:
     }
 
     bool empty() const { return m_index.empty(); }
+    /// How many lights it can choose.
+    std::size_t size() const { return m_index.size(); }
     /// The light for u in [0, 1), with its probability in `prob`.
     int sample(float u, float& prob) const {
         const auto it = std::upper_bound(m_cdf.begin(), m_cdf.end(), u);

@@ -52,8 +52,12 @@ struct TriangleMeshLight {
         const std::size_t k = std::min<std::size_t>(static_cast<std::size_t>(it - cdf.begin()), cdf.size() - 1);
         const float lo = k > 0 ? cdf[k - 1] : 0.f;
         const float u = std::clamp((u1 - lo) / std::max(cdf[k] - lo, 1e-30f), 0.f, 0x1.fffffep-1f);
-        const Triangle& t = triangles[k];
+        point_on(k, u, u2, p, p_err, n);
         triangle = static_cast<std::uint32_t>(k);
+    }
+    /// A point uniform on triangle k (u in [0, 1) the square-root warp's number).
+    void point_on(std::size_t k, float u, float u2, Vec3& p, Vec3& p_err, Vec3& n) const {
+        const Triangle& t = triangles[k];
         const float su = std::sqrt(u);
         const float b0 = 1.f - su, b1 = u2 * su, b2 = 1.f - b0 - b1;
         p = t.p0 * b0 + t.p1 * b1 + t.p2 * b2;
@@ -64,6 +68,18 @@ struct TriangleMeshLight {
     bool sample_li(const LightSampleContext& ctx, const SampledWavelengths& lambda, float u1, float u2,
                    LightSample& ls) const {
         sample_point(u1, u2, ls.p, ls.p_err, ls.n, ls.triangle);
+        if (!emits_towards(two_sided, ls.n, ctx.p - ls.p)) return false;
+        ls.pdf = area_to_solid_angle(1.f / total_area, ctx.p, ls.p, ls.n);
+        return finish_area_sample(ls, ctx.p, Le.sample(lambda));
+    }
+
+    /// sample_li with the point on triangle k (a light BVH chose it, render/light_bvh.h): the
+    /// density stated is sample_li's own (1 / total_area in solid angle); the chooser's
+    /// probability carries the ratio of the areas.
+    bool sample_li_on(std::uint32_t k, const LightSampleContext& ctx, const SampledWavelengths& lambda, float u1,
+                      float u2, LightSample& ls) const {
+        point_on(k, std::min(u1, 0x1.fffffep-1f), u2, ls.p, ls.p_err, ls.n);
+        ls.triangle = k;
         if (!emits_towards(two_sided, ls.n, ctx.p - ls.p)) return false;
         ls.pdf = area_to_solid_angle(1.f / total_area, ctx.p, ls.p, ls.n);
         return finish_area_sample(ls, ctx.p, Le.sample(lambda));
