@@ -23,6 +23,7 @@
 #include "cli/progress_bar.h"
 #include "cli/render_description.h"
 #include "cli/render_metadata.h"
+#include "core/parallel_rows.h"
 #include "io/atomic_file.h"
 #include "io/auto_exposure.h"
 #include "io/image_writer.h"
@@ -196,6 +197,7 @@ void list_scenes() {
 }
 
 int run(const spt::Options& opt) {
+    spt::set_load_threads(opt.threads);  // large scene data (environment maps) is built on the render's threads
     const auto load_start = std::chrono::steady_clock::now();
     spt::InputFiles scene_files;
     std::optional<spt::Scene> scene = load_scene(opt, scene_files);

@@ -8,6 +8,7 @@
 
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <functional>
 #include <numbers>
 #include <random>
@@ -297,6 +298,98 @@ TEST(EnvironmentMap, BadTexelsAndShapesAreRefused) {
     EXPECT_EQ(message(4, 2, EnvironmentMapping::equirect, 1.f), "(no error)");
     std::vector<float> black(8 * 3, 0.f);
     EXPECT_THROW(make_environment_map(4, 2, 3, black, EnvironmentMapping::equirect), std::invalid_argument);
+}
+
+/// Texels of every kind the build treats differently: distinct colours, runs of equal ones,
+/// greys, black, a sun; `bad` rows (if any) get a NaN at column 3.
+std::vector<float> varied_texels(int w, int h, const std::vector<int>& bad_rows = {}) {
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<float> uni(0.f, 2.f);
+    std::vector<float> v;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            std::array<float, 3> c{uni(rng), uni(rng), uni(rng)};
+            if (x % 7 < 3) c = {0.3f, 0.5f, 0.9f};            // a run of equal texels
+            if (x % 11 == 0) c = {c[0], c[0], c[0]};          // grey
+            if (x % 13 == 0) c = {0.f, 0.f, 0.f};             // black
+            if (x == w / 2 && y == h / 3) c = {4e4f, 3e4f, 2e4f};  // a sun
+            v.insert(v.end(), c.begin(), c.end());
+        }
+    for (int y : bad_rows) v[(std::size_t(y) * std::size_t(w) + 3) * 3 + 1] = std::nanf("");
+    return v;
+}
+
+TEST(EnvironmentMap, TheMapIsTheSameForEveryThreadCount) {
+    // Rows are built in parallel and their sums added in row order: a sum or a table that
+    // depended on which thread did which row would differ between these counts.
+    for (const EnvironmentMapping mapping : {EnvironmentMapping::equirect, EnvironmentMapping::equal_area}) {
+        const int w = 96, h = mapping == EnvironmentMapping::equirect ? 53 : 96;
+        const std::vector<float> texels = varied_texels(w, h);
+        const auto one = make_environment_map(w, h, 3, texels, mapping, true, 1);
+        for (const int threads : {2, 3, 8}) {
+            SCOPED_TRACE(threads);
+            const auto many = make_environment_map(w, h, 3, texels, mapping, true, threads);
+            EXPECT_EQ(many->radiant_mean, one->radiant_mean);
+            EXPECT_EQ(many->up_illuminance, one->up_illuminance);
+            ASSERT_EQ(many->texels.size(), one->texels.size());
+            EXPECT_EQ(0, std::memcmp(many->texels.data(), one->texels.data(), one->texels.size() * sizeof(RgbIlluminant)));
+            for (const auto& [a, b] : {std::pair{&one->distribution, &many->distribution},
+                                       std::pair{&one->compensated, &many->compensated}}) {
+                for (int y = 0; y < h; ++y)
+                    for (int x = 0; x < w; ++x) {
+                        const float u = (float(x) + 0.5f) / float(w), v = (float(y) + 0.5f) / float(h);
+                        ASSERT_EQ(a->pdf(u, v), b->pdf(u, v)) << x << ", " << y;
+                    }
+                for (int k = 0; k < 200; ++k) {
+                    float pa = 0, pb = 0;
+                    const float u0 = float(k) / 200.f, u1 = float((k * 37) % 200) / 200.f;
+                    ASSERT_EQ(a->sample(u0, u1, &pa), b->sample(u0, u1, &pb));
+                    ASSERT_EQ(pa, pb);
+                }
+            }
+        }
+    }
+}
+
+TEST(EnvironmentMap, TheFirstBadTexelInRowOrderIsReportedWithAnyThreadCount) {
+    const std::vector<float> texels = varied_texels(40, 64, {41, 9, 50});
+    for (const int threads : {1, 2, 5}) {
+        try {
+            make_environment_map(40, 64, 3, texels, EnvironmentMapping::equirect, false, threads);
+            ADD_FAILURE() << "no error with " << threads << " threads";
+        } catch (const std::invalid_argument& e) {
+            EXPECT_STREQ(e.what(), "texel (3, 9) is NaN; expected finite radiance") << threads << " threads";
+        }
+    }
+}
+
+TEST(EnvironmentMap, RadiantMeanAndUpIlluminanceAreTheTexelSums) {
+    // power() and "illuminance" rest on these two sums: each texel's radiance averaged over
+    // 380, 390, …, 780 nm (by eval, one wavelength at a time) times its solid angle, and each
+    // upper texel's luminance times its centre's cosine to the map's up times its solid angle.
+    for (const EnvironmentMapping mapping : {EnvironmentMapping::equirect, EnvironmentMapping::equal_area}) {
+        const int w = 48, h = mapping == EnvironmentMapping::equirect ? 24 : 48;
+        const std::vector<float> texels = varied_texels(w, h);
+        const auto m = make_environment_map(w, h, 3, texels, mapping, false, 2);
+        double radiant = 0, up = 0;
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                const std::size_t i = std::size_t(y) * std::size_t(w) + std::size_t(x);
+                const double omega =
+                    mapping == EnvironmentMapping::equal_area
+                        ? 4 * kPiD / (double(w) * h)
+                        : 2 * kPiD / w * (std::cos(kPiD * y / h) - std::cos(kPiD * (y + 1) / h));
+                double mean = 0;
+                for (int k = 0; k <= 40; ++k) mean += m->eval(m->texels[i], 380.f + 10.f * float(k));
+                radiant += mean / 41 * omega;
+                const Vec3 d = m->direction_of((float(x) + 0.5f) / float(w), (float(y) + 0.5f) / float(h));
+                const double cos_up = mapping == EnvironmentMapping::equal_area ? d.z : d.y;
+                const double lum = 0.2126729 * texels[3 * i] + 0.7151522 * texels[3 * i + 1] + 0.0721750 * texels[3 * i + 2];
+                if (cos_up > 0) up += lum * cos_up * omega;
+            }
+        EXPECT_NEAR(m->radiant_mean, radiant, 1e-12 * radiant);
+        EXPECT_NEAR(m->up_illuminance, up, 1e-12 * up);
+    }
 }
 
 }  // namespace

@@ -369,7 +369,7 @@ TEST(PiecewiseConstant2D, EdgeUsZeroRowsAndAllZero) {
 
 TEST(PiecewiseConstant2D, RejectsInvalidInput) {
     EXPECT_THROW(PiecewiseConstant2D({1, 2, 3}, 2, 2), std::invalid_argument);
-    EXPECT_THROW(PiecewiseConstant2D({}, 0, 0), std::invalid_argument);
+    EXPECT_THROW(PiecewiseConstant2D(std::vector<float>{}, 0, 0), std::invalid_argument);
     EXPECT_THROW(PiecewiseConstant2D({1, 2, 3, -4}, 2, 2), std::invalid_argument);
     EXPECT_THROW(PiecewiseConstant2D({1, 2, std::numeric_limits<float>::quiet_NaN(), 4}, 2, 2),
                  std::invalid_argument);

@@ -35,6 +35,9 @@
 #include <string>
 #include <vector>
 
+#include "core/no_init_allocator.h"
+#include "core/parallel_rows.h"
+
 namespace spt {
 
 namespace piecewise_detail {
@@ -146,7 +149,11 @@ private:
 class PiecewiseConstant2D {
 public:
     PiecewiseConstant2D() = default;
-    PiecewiseConstant2D(const std::vector<float>& f, int nu, int nv) : m_nu(nu), m_nv(nv) {
+    /// `threads`: the rows' CDFs are built in parallel (core/parallel_rows.h); the table is
+    /// the same for any count.
+    PiecewiseConstant2D(const std::vector<float>& f, int nu, int nv, int threads = 1)
+        : PiecewiseConstant2D(std::span<const float>(f), nu, nv, threads) {}
+    PiecewiseConstant2D(std::span<const float> f, int nu, int nv, int threads = 1) : m_nu(nu), m_nv(nv) {
         piecewise_detail::check_cell_count(nu, "PiecewiseConstant2D (columns)");
         piecewise_detail::check_cell_count(nv, "PiecewiseConstant2D (rows)");
         const std::size_t row_length = static_cast<std::size_t>(nu);
@@ -155,11 +162,11 @@ public:
                                         std::to_string(nu) + " x " + std::to_string(nv));
         m_conditional_cdf.resize((row_length + 1) * static_cast<std::size_t>(nv));
         std::vector<double> row_sums(static_cast<std::size_t>(nv));
-        for (int v = 0; v < nv; ++v) {
+        parallel_rows(nv, threads, [&](int v) {
             const std::span<const float> row(f.data() + row_length * v, row_length);
             row_sums[v] = piecewise_detail::checked_sum(row, "PiecewiseConstant2D", row_length * v);
             piecewise_detail::write_cdf(row, row_sums[v], row_cdf(v));
-        }
+        });
         const std::span<const double> sums(row_sums);
         const double total = piecewise_detail::checked_sum(sums, "PiecewiseConstant2D (row sums)");
         m_marginal_cdf.resize(static_cast<std::size_t>(nv) + 1);
@@ -200,7 +207,7 @@ private:
     }
 
     int m_nu = 0, m_nv = 0;
-    std::vector<float> m_conditional_cdf;  ///< nv rows of nu + 1 values, each 0 to 1
+    std::vector<float, NoInitAllocator<float>> m_conditional_cdf;  ///< nv rows of nu + 1 values, each 0 to 1
     std::vector<float> m_marginal_cdf;     ///< nv + 1 values, 0 to 1
     double m_integral = 0.0;
 };

@@ -63,6 +63,16 @@ inline Vec3 equal_area_square_to_sphere(float u, float v) {
     return {std::copysign(std::cos(phi) * sin_theta, a), std::copysign(std::sin(phi) * sin_theta, b), z};
 }
 
+/// The z component of equal_area_square_to_sphere(u, v) (the same operations, the same bits)
+/// without the azimuth's sine and cosine.
+inline float equal_area_square_z(float u, float v) {
+    const float s = std::fabs(2.f * u - 1.f) + std::fabs(2.f * v - 1.f);
+    const bool north = s <= 1.f;
+    const float r = north ? s : 2.f - s;
+    const float one_minus_r2 = 1.f - r * r;
+    return north ? one_minus_r2 : -one_minus_r2;
+}
+
 /// The point of [0,1]² of the equal-area square for a unit direction (the inverse of
 /// equal_area_square_to_sphere; edge points that share a direction come back as one of them).
 inline std::array<float, 2> equal_area_sphere_to_square(const Vec3& d) {

@@ -115,10 +115,12 @@ private:
             fail(fv.pos(), "cannot read environment map " + quote_text(file) + (error.empty() ? "" : ": " + error) +
                                "; expected a PFM or EXR file path relative to the scene file");
         try {
-            const DecodedImage img = decode_image(contents);
+            DecodedImage img = decode_image(contents);
+            std::string().swap(contents);  // the file's bytes: not needed beside the map's tables
             if (img.integer_codes)
                 throw std::invalid_argument("holds integer codes (an 8- or 16-bit image); expected linear radiance (PFM or EXR)");
-            light.map = make_environment_map(img.width, img.height, img.channels, img.values, mapping, light.mis_compensation);
+            light.map = make_environment_map(img.width, img.height, img.channels, std::move(img.values), mapping,
+                                             light.mis_compensation);
         } catch (const std::exception& e) {
             fail(fv.pos(), "environment map " + quote_text(display) + ": " + e.what());
         }

@@ -34,6 +34,8 @@
 #include <vector>
 
 #include "core/frame.h"
+#include "core/no_init_allocator.h"
+#include "core/parallel_rows.h"
 #include "core/piecewise_constant.h"
 #include "core/sampling.h"
 #include "geometry/sphere_mappings.h"
@@ -50,7 +52,7 @@ enum class EnvironmentSampling { importance, uniform };
 struct EnvironmentMap {
     int width = 0, height = 0;
     EnvironmentMapping mapping = EnvironmentMapping::equirect;
-    std::vector<RgbIlluminant> texels;  ///< row-major, row 0 = the top of the image
+    std::vector<RgbIlluminant, NoInitAllocator<RgbIlluminant>> texels;  ///< row-major, row 0 = the top of the image
     std::vector<float> d65;             ///< at 360, 361, …, 830 nm
     PiecewiseConstant2D distribution;   ///< over the unit square of the mapping, all texels
     /// The same less the mean weight (Karlík et al. 2019); built only for lights that use it.
@@ -208,10 +210,12 @@ private:
 /// 3 or 4: RGB; alpha is not read), row-major from the top row, linear radiance. Throws
 /// std::invalid_argument, its message "what is wrong; expected what" (without the file's
 /// name), for a texel that is not finite or negative, a map that emits nothing, and a
-/// non-square equal-area map. `compensated`: also build the compensated distribution (for a
-/// light with mis_compensation).
+/// non-square equal-area map (of the first bad texel in row order). `compensated`: also build
+/// the compensated distribution (for a light with mis_compensation). Rows are built on
+/// `threads` threads (core/parallel_rows.h); the map is the same for every count. `values`
+/// is released once read (pass it moved to keep the peak memory down).
 std::shared_ptr<const EnvironmentMap> make_environment_map(int width, int height, int channels,
-                                                           const std::vector<float>& values,
-                                                           EnvironmentMapping mapping, bool compensated = false);
+                                                           std::vector<float> values, EnvironmentMapping mapping,
+                                                           bool compensated = false, int threads = load_threads());
 
 }  // namespace spt
