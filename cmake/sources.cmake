@@ -22,6 +22,7 @@ set(SPT_CORE_SOURCES
     src/model/bsdfs/lobe_mix.cpp
     src/model/bsdfs/plastic.cpp
     src/model/lights/environment_map.cpp
+    src/model/lights/portal_light.cpp
     src/io/density_grid_reader.cpp
     src/io/checksums.cpp
     src/io/embedded_files.cpp

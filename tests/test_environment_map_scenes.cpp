@@ -159,7 +159,7 @@ TEST(EnvironmentMapScene, MalformedMapsAreOneLocatedLine) {
 
 TEST(EnvironmentMapScene, PbrtInfiniteLightWithAFilename) {
     // pbrt-v4: an equal-area map in light space (+z up), turned by the CTM at the LightSource,
-    // times scale; "illuminance" as pbrt-v4 renders it; a portal is warned about.
+    // times scale; "illuminance" as pbrt-v4 renders it.
     const auto dir = folder("pbrt");
     write_pfm(dir / "sky.pfm", 8, 8, [](int x, int y) { return sky(x, y, 8, 8); });
     const std::string camera = "LookAt 0 0 3  0 0 0  0 1 0\nCamera \"perspective\" \"float fov\" 45\nWorldBegin\n";
@@ -280,6 +280,136 @@ TEST(EnvironmentMapScene, VolumetricPathAgreesWithBdptThroughFog) {
                                              R"({"type": "sphere", "center": [0, 0.35, 1.6], "radius": 0.5, "interior": "fog"}, )"));
     ASSERT_FALSE(scene.media.empty());
     test::expect_bdpt_matches_path(scene, 21);
+}
+
+// ---- Portals ----
+
+/// A closed white room [−1, 1]³ with a window (y in [−0.1, 0.3], z in [−0.3, 0.3]) in its
+/// wall x = 1, a ball on the floor, seen from inside; `portal` adds the window as the map's
+/// portal (its front, edge1 × edge2 = +x, facing out).
+std::string room_text(bool portal, const std::string& extra = "") {
+    const std::string wall = R"({"type": "quad", "material": "white", )";
+    return std::string(R"({"camera": {"position": [-0.9, 0.2, 0.6], "look_at": [0.5, -0.4, -0.2], "vfov_degrees": 70},
+      "materials": {"white": {"type": "diffuse", "kd": 0.7}},
+      "background": {"type": "image", "file": "sky.pfm")") +
+           (portal ? R"(, "portal": {"origin": [1, -0.1, -0.3], "edge1": [0, 0.4, 0], "edge2": [0, 0, 0.6]})" : "") + extra + R"(},
+      "shapes": [)" + wall + R"("origin": [-1, -1, -1], "edge1": [2, 0, 0], "edge2": [0, 0, 2]},
+                 )" + wall + R"("origin": [-1, 1, -1], "edge1": [2, 0, 0], "edge2": [0, 0, 2]},
+                 )" + wall + R"("origin": [-1, -1, -1], "edge1": [0, 2, 0], "edge2": [0, 0, 2]},
+                 )" + wall + R"("origin": [-1, -1, -1], "edge1": [2, 0, 0], "edge2": [0, 2, 0]},
+                 )" + wall + R"("origin": [-1, -1, 1], "edge1": [2, 0, 0], "edge2": [0, 2, 0]},
+                 )" + wall + R"("origin": [1, -1, -1], "edge1": [0, 0.9, 0], "edge2": [0, 0, 2]},
+                 )" + wall + R"("origin": [1, 0.3, -1], "edge1": [0, 0.7, 0], "edge2": [0, 0, 2]},
+                 )" + wall + R"("origin": [1, -0.1, -1], "edge1": [0, 0.4, 0], "edge2": [0, 0, 0.7]},
+                 )" + wall + R"("origin": [1, -0.1, 0.3], "edge1": [0, 0.4, 0], "edge2": [0, 0, 0.7]},
+                 {"type": "sphere", "center": [0.2, -0.7, -0.3], "radius": 0.3, "material": "white"}]})";
+}
+
+/// A sky whose sun (low, towards +x) shines in through the window.
+void write_room_sky(const std::filesystem::path& dir) {
+    write_pfm(dir / "sky.pfm", 64, 32, [](int x, int y) {
+        if (std::abs(x - 16) <= 1 && std::abs(y - 13) <= 1) return std::array<float, 3>{400.f, 360.f, 300.f};
+        return sky(x, y, 64, 32);
+    });
+}
+
+double mean_standard_error(const Film& f) {
+    double sum = 0;
+    for (int y = 0; y < f.height(); ++y)
+        for (int x = 0; x < f.width(); ++x) sum += f.pixel_y_standard_error(x, y);
+    return sum / (f.width() * f.height());
+}
+
+TEST(EnvironmentMapScene, PortalChangesTheNoiseNotTheImage) {
+    // The same room with and without the portal: equal images (MIS, and light sampling alone
+    // through the portal, which a room closed but for it allows), and less noise with it.
+    const auto dir = folder("portal");
+    write_room_sky(dir);
+    const Scene plain = load(dir, room_text(false));
+    const Scene portal = load(dir, room_text(true));
+    ASSERT_TRUE(std::holds_alternative<PortalLight>(portal.lights.at(std::size_t(portal.infinite_light_indices.at(0)))));
+    const auto reference = render_film(plain, small_settings(20, 20, 1024, 1));
+    const auto mis = render_film(portal, small_settings(20, 20, 256, 2));
+    const auto light = render_film(portal, mode(small_settings(20, 20, 256, 3), LightSampling::light));
+    for (const auto* f : {mis.get(), light.get()}) {
+        const Comparison c = compare(*reference, *f, [](int, int) { return true; });
+        EXPECT_LE(c.max_z, 5.0) << (f == mis.get() ? "mis: " : "light: ") << describe(c);
+        EXPECT_NEAR(c.mean_a, c.mean_b, 4 * c.se) << (f == mis.get() ? "mis: " : "light: ") << describe(c);
+    }
+    const auto plain_256 = render_film(plain, small_settings(20, 20, 256, 4));
+    EXPECT_LT(mean_standard_error(*mis), 0.7 * mean_standard_error(*plain_256))
+        << "with the portal " << mean_standard_error(*mis) << ", without " << mean_standard_error(*plain_256);
+}
+
+TEST(EnvironmentMapScene, BdptAndVcmThroughAPortalAgreeWithThePathTracer) {
+    // Light subpaths start on the portal: every strategy of bdpt, and vcm's merging.
+    const auto dir = folder("portal_bdpt");
+    write_room_sky(dir);
+    const Scene scene = load(dir, room_text(true));
+    const auto path = test::expect_bdpt_matches_path(scene, 31);
+    RenderSettings rs = small_settings(24, 24, 512, 33);
+    rs.integrator.kind = IntegratorKind::vcm;
+    const test::PassImages vcm = test::render_passes(scene, rs);
+    const Comparison c = compare(*path, *vcm.film, [](int, int) { return true; });
+    EXPECT_LE(c.max_z, 5.0) << "vcm: " << describe(c);
+    EXPECT_NEAR(c.mean_a, c.mean_b, 5 * c.se) << "vcm: " << describe(c);
+}
+
+TEST(EnvironmentMapScene, MalformedPortalsAreOneLocatedLine) {
+    const auto dir = folder("portal_malformed");
+    write_room_sky(dir);
+    auto room = [](const std::string& portal, const std::string& extra = "") {
+        return R"({"camera": {"position": [0, 0, 2], "look_at": [0, 0, 0]}, "materials": {"white": {"kd": 0.7}},
+  "background": {"type": "image", "file": "sky.pfm", "portal": )" + portal + extra + R"(},
+  "shapes": [{"type": "sphere", "center": [0, 0, 0], "radius": 0.3, "material": "white"}]})";
+    };
+    struct Case {
+        std::string text, expected;
+    };
+    const std::vector<Case> cases = {
+        {room(R"({"origin": [1, 0, 0], "edge1": [0, 1, 0], "edge2": [0, 0.5, 1]})"),
+         "scene.json:2:64: background image portal: the portal's edges are not perpendicular; expected a rectangle"},
+        {room(R"({"origin": [1, 0, 0], "edge1": [0, 0, 0], "edge2": [0, 0, 1]})"),
+         "scene.json:2:95: background image portal edge1 is the zero vector"},
+        {room(R"({"origin": [1, 0, 0], "edge1": [0, 1, 0]})"), "scene.json:2:64: background image portal has no \"edge2\""},
+        {room("[1, 0, 0]"), "scene.json:2:64: background image portal is an array"},
+        {room(R"({"origin": [1, 0, 0], "edge1": [0, 1, 0], "edge2": [0, 0, 1]})", R"(, "sampling": "uniform")"),
+         "scene.json:2:64: background image has a \"portal\" and \"sampling\": \"uniform\""},
+    };
+    for (const Case& c : cases) {
+        std::string e = error_of(dir, c.text);
+        for (std::size_t at; (at = e.find(dir.string() + "/")) != std::string::npos;) e.erase(at, dir.string().size() + 1);
+        EXPECT_EQ(e.rfind(c.expected, 0), 0u) << "got: " << e << "\nexpected it to start with: " << c.expected;
+        EXPECT_EQ(e.find('\n'), std::string::npos) << e;
+    }
+}
+
+TEST(EnvironmentMapScene, PbrtPortalsReadAndWriteInPbrtsFrame) {
+    // pbrt-v4's four corners p0 p1 p2 p3: x = p3 − p0, y = p1 − p0, the map on the side of
+    // x × y; written back as the same corners.
+    const auto dir = folder("pbrt_portal");
+    write_pfm(dir / "sky.pfm", 8, 8, [](int x, int y) { return sky(x, y, 8, 8); });
+    const std::string text = "LookAt 0 0 0  -1 0 0  0 1 0\nCamera \"perspective\"\nWorldBegin\n"
+                             "LightSource \"infinite\" \"string filename\" \"sky.pfm\" \"point3 portal\" "
+                             "[ -1 -0.1 -0.3  -1 0.3 -0.3  -1 0.3 0.3  -1 -0.1 0.3 ]\n"
+                             "Shape \"sphere\" \"float radius\" 0.2\n";
+    write_file(dir / "a.pbrt", text);
+    const Scene scene = load_scene_file((dir / "a.pbrt").string(), {});
+    const PortalLight& p = std::get<PortalLight>(scene.lights.at(std::size_t(scene.infinite_light_indices.at(0))));
+    EXPECT_NEAR(p.portal().origin.x, -1.f, 1e-6f);
+    EXPECT_NEAR(p.portal().x.z, 1.f, 1e-6f);
+    EXPECT_NEAR(p.portal().y.y, 1.f, 1e-6f);
+    EXPECT_NEAR(p.portal().z.x, -1.f, 1e-6f);  // (0, 0, 1) × (0, 1, 0): the map lies at −x
+    EXPECT_FLOAT_EQ(p.portal().width, 0.6f);
+    EXPECT_FLOAT_EQ(p.portal().height, 0.4f);
+    const std::optional<SceneSource> src = read_scene_source((dir / "a.pbrt").string());
+    ASSERT_TRUE(src.has_value());
+    PbrtExportSettings settings;
+    settings.output_path = (dir / "out.pbrt").string();
+    settings.scene_folder = src->folder;
+    settings.read_relative = src->read_relative;
+    const std::string out = export_pbrt(src->description, settings).text;
+    EXPECT_NE(out.find("\"point3 portal\" [ -1 -0.1 -0.3 -1 0.3 -0.3 -1 0.3 0.3 -1 -0.1 0.3 ]"), std::string::npos) << out;
 }
 
 }  // namespace

@@ -1024,9 +1024,14 @@ private:
     void image_infinite_light(const PbrtParam& f, const PbrtParams& p, const Matrix& m, double scale, SourcePos pos) {
         if (f.type != "string") fail(f.pos, "\"filename\" of an infinite light is a " + f.type + "; expected \"string filename\"");
         if (p.has("L")) fail(p.find("L")->pos, "an infinite light with both \"L\" and \"filename\"; expected one of them");
-        if (p.has("portal")) {
-            const PbrtParam* portal = p.find("portal");
-            warn(portal->pos, "an infinite light's \"portal\" is not supported yet; the map lights the scene from every direction, sampled without the portal");
+        // pbrt-v4's portal: four corners in world space, p0 p1 p2 p3 around the rectangle, its
+        // frame x = p3 − p0, y = p1 − p0, the map seen on the side of x × y.
+        std::optional<ParamValue> portal;
+        if (const PbrtParam* q = p.find("portal")) {
+            const std::vector<double> c = p.get_numbers("portal", {"point3"}, 3);
+            if (c.size() != 12) fail(q->pos, "\"portal\" has " + std::to_string(c.size() / 3) + " points; expected 4 (the corners of a rectangle)");
+            const DVec3 p0{c[0], c[1], c[2]}, p1{c[3], c[4], c[5]}, p3{c[9], c[10], c[11]};
+            portal = ParamValue::dict({{"origin", point(p0, q->pos)}, {"edge1", point(p3 - p0, q->pos)}, {"edge2", point(p1 - p0, q->pos)}}, q->pos);
         }
         if (m_background) {
             warn(pos, "a second infinite light; only the first is kept");
@@ -1042,6 +1047,7 @@ private:
         // here as it does there.
         if (e_v > 0) bg.set("illuminance", num(2 * e_v * scale, p.find("illuminance")->pos));
         else bg.set("scale", num(scale, pos));
+        if (portal) bg.set("portal", std::move(*portal));
         if (m_state.ctm[0] != m_state.ctm[1]) warn(pos, "a moving light is not supported; the light stays where the shutter opens");
         warn_unused(p, "LightSource \"infinite\"");
         m_background = std::move(bg);

@@ -283,6 +283,14 @@ private:
         if (const ParamValue* e = bg.peek("illuminance"); e && e->is_number())
             params += " \"float illuminance\" " + num(e->as_number() / 2);
         else params += " \"float scale\" " + num(number_or(bg.peek("scale"), 1));
+        if (const ParamValue* portal = bg.peek("portal"); portal && portal->is_object()) {
+            // pbrt-v4's corners p0 p1 p2 p3, its frame x = p3 − p0, y = p1 − p0 (world space).
+            const V3 o = vec(portal->peek("origin"), {0, 0, 0}), e1 = vec(portal->peek("edge1"), {1, 0, 0}),
+                     e2 = vec(portal->peek("edge2"), {0, 1, 0});
+            params += " \"point3 portal\" [";
+            for (const V3& c : {o, o + e2, o + e1 + e2, o + e1}) params += " " + point_text(c);
+            params += " ]";
+        }
         if (bg.peek("sampling") || bg.peek("mis_compensation"))
             comment("the background's \"sampling\" and \"mis_compensation\" are not exported: pbrt-v4 samples its maps its own way");
         line("# the background: an equal-area environment map");

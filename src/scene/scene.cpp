@@ -98,9 +98,15 @@ void Scene::set_background(EnvironmentMapLight map) {
     lights.emplace_back(std::move(map));
 }
 
+void Scene::set_background(PortalLight portal) {
+    remove_background();
+    lights.emplace_back(std::move(portal));
+}
+
 void Scene::remove_background() {
     for (std::size_t i = 0; i < lights.size(); ++i) {
-        if (!std::holds_alternative<EnvironmentLight>(lights[i]) && !std::holds_alternative<EnvironmentMapLight>(lights[i]))
+        if (!std::holds_alternative<EnvironmentLight>(lights[i]) && !std::holds_alternative<EnvironmentMapLight>(lights[i]) &&
+            !std::holds_alternative<PortalLight>(lights[i]))
             continue;
         lights.erase(lights.begin() + static_cast<std::ptrdiff_t>(i));
         if (i < light_textures.size()) light_textures.erase(light_textures.begin() + static_cast<std::ptrdiff_t>(i));

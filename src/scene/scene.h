@@ -143,6 +143,8 @@ struct Scene : ShapeArrays {
     void set_background(Spectrum radiance);
     /// Makes an environment map the background (in place of any other).
     void set_background(EnvironmentMapLight map);
+    /// Makes an environment map sampled through a portal the background.
+    void set_background(PortalLight portal);
     /// Removes the background (constant or map), if any.
     void remove_background();
     /// Adds the emitter for a shape of the given kind (a quad's or a mesh's triangles share

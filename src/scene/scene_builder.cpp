@@ -109,6 +109,20 @@ private:
             light.mis_compensation = c->as_bool();
         }
         if (const ParamValue* t = v.find("transform")) rotation_of(transform(t), *t, what, light);
+        const ParamValue* portal = v.find("portal");
+        Vec3 portal_origin, portal_edge1, portal_edge2;
+        if (portal) {
+            object(*portal, what + " portal");
+            portal_origin = point(required(*portal, "origin", what + " portal"), what + " portal origin");
+            portal_edge1 = direction(required(*portal, "edge1", what + " portal"), what + " portal edge1");
+            portal_edge2 = direction(required(*portal, "edge2", what + " portal"), what + " portal edge2");
+            all_read(*portal, what + " portal");
+            // A portal is a way of sampling the map: it replaces the other two.
+            if (light.sampling != EnvironmentSampling::importance || light.mis_compensation)
+                fail(portal->pos(), what + " has a \"portal\" and " +
+                                        (light.mis_compensation ? "\"mis_compensation\"" : "\"sampling\": \"uniform\"") +
+                                        "; expected the portal alone (it decides how the map is sampled)");
+        }
         all_read(v, what);
         std::string contents, display, error;
         if (file.empty() || !m_read_relative(file, contents, display, error))
@@ -130,6 +144,14 @@ private:
                 fail(illuminance->pos(), what + " illuminance: " + quote_text(display) +
                                              " sends no light from above its horizon; expected a map lit from above, or \"scale\"");
             light.scale = static_cast<float>(e / light.map->up_illuminance);
+        }
+        if (portal) {
+            try {
+                m_scene.set_background(make_portal_light(light, portal_origin, portal_edge1, portal_edge2));
+            } catch (const std::invalid_argument& e) {
+                fail(portal->pos(), what + " portal: " + e.what());
+            }
+            return;
         }
         m_scene.set_background(std::move(light));
     }

@@ -79,6 +79,7 @@
 #include "model/lights/environment_map_light.h"
 #include "model/lights/plane_light.h"
 #include "model/lights/point_light.h"
+#include "model/lights/portal_light.h"
 #include "model/lights/quad_light.h"
 #include "model/lights/quadric_light.h"
 #include "model/lights/sphere_light.h"
@@ -89,7 +90,7 @@ namespace spt {
 
 using Light =
     std::variant<PointLight, SphereLight, QuadLight, TriangleMeshLight, QuadricLight, PlaneLight, EnvironmentLight,
-                 SpotLight, EnvironmentMapLight>;
+                 SpotLight, EnvironmentMapLight, PortalLight>;
 
 /// A set of LightTypes, for visit_light_of.
 constexpr unsigned light_types(std::initializer_list<LightType> types) {

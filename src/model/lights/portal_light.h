@@ -1,0 +1,179 @@
+// An environment map sampled through a portal: a rectangle (a window, a door) that a scene
+// names as the way its environment light comes in (Bitterli, Novák & Jarosz 2015,
+// "Portal-masked environment map sampling"; pbrt-v4's PortalImageInfiniteLight). Sampling
+// the whole sphere from inside a room wastes most samples on the walls; sampling the portal
+// by area ignores the map. Here directions are drawn from the map's radiance restricted to
+// exactly the directions that pass through the portal from the shading point.
+//
+// The portal's frame: x along edge1, y along edge2, z = x × y, the portal's front, facing the
+// environment (outside). A direction w with w_z > 0 has rectified coordinates
+//   u = (atan2(w_x, w_z) + π/2)/π,  v = (atan2(w_y, w_z) + π/2)/π,
+// and from a point p behind the portal (p_z < 0) the directions through it form the
+// axis-aligned rectangle of (u, v) between its corners' coordinates: each edge of the portal
+// lies in a plane through p that keeps u (or v) fixed. The solid angle of a (u, v) cell is
+// dω = π² (1 − w_x²)(1 − w_y²)/w_z du dv. A distribution over (u, v) weighs each cell by the
+// map's importance density (luminance per solid angle) at its direction times that Jacobian,
+// and is sampled within the rectangle (core/windowed_distribution.h); pdf_li divides by the
+// Jacobian. The density is floored at 1e-3 of the uniform one, so that no direction through
+// the portal has density 0 where the map's texels are finer than the cells.
+//
+// What the portal changes: only how light is sampled, never the radiance. An escaped ray
+// sees the map in every direction, through the portal or not (pbrt-v4's Le is 0 unless the
+// ray passed through the portal: the two agree for a room closed but for its portal).
+// Directions that leave elsewhere (another opening) have light density 0 and are found by
+// BSDF sampling alone, whose MIS weight is then 1: unbiased when BSDF sampling is combined,
+// as in every integrator by default; with light sampling alone (`--light-sampling light`)
+// they stay dark, as they would in pbrt-v4.
+//
+// Light subpaths (bdpt, vcm) start on the portal itself: a point uniform over its area and
+// a direction from the map over the whole (u, v) square, entering the room. pdf_pos is the
+// density per unit area across the ray, 1/(A cos θ), θ between the ray and the portal's
+// normal (the disk of an environment without a portal has 1/(πR²)); the flux through the
+// portal is then E[Le/(pdf_pos·pdf_dir)] = A ∫ L cos θ dω, and power() is that integral
+// (of the mean over 380–780 nm) by the midpoint rule over 256 × 256 cells of (u, v).
+#pragma once
+#include <cmath>
+#include <memory>
+#include <optional>
+
+#include "core/windowed_distribution.h"
+#include "model/lights/environment_map_light.h"
+
+namespace spt {
+
+struct Portal {
+    Vec3 origin, edge1, edge2;  ///< corners origin, + edge1, + edge1 + edge2, + edge2
+    Vec3 x, y, z;               ///< unit edge1, unit edge2, x × y (towards the environment)
+    float width = 0.f, height = 0.f;
+};
+
+/// What a portal light keeps (shared by its copies): the portal and its (u, v) distribution.
+struct PortalSampling {
+    Portal portal;
+    WindowedPiecewiseConstant2D distribution;
+    float power = 0.f;  ///< the flux through the portal (see above)
+};
+
+/// dω/d(u, v) = π² (1 − w_x²)(1 − w_y²)/w_z of a unit local direction, with 1 − w_x² as
+/// w_y² + w_z²: near grazing (w_x → 1) the difference would round to 0.
+inline float portal_jacobian(float wx, float wy, float wz) {
+    return kPi * kPi * (wy * wy + wz * wz) * (wx * wx + wz * wz) / wz;
+}
+
+struct PortalLight {
+    EnvironmentMapLight environment;  ///< the radiance (the map, its rotation and scale)
+    std::shared_ptr<const PortalSampling> sampling;
+    Vec3 center;  ///< the scene's bounding sphere (set as every infinite light's; unused here)
+    float radius = 1.f;
+
+    static constexpr LightType type = LightType::infinite;
+
+    const Portal& portal() const { return sampling->portal; }
+
+    float power() const { return sampling->power; }
+
+    SampledSpectrum arriving(const Vec3& d, const SampledWavelengths& lambda) const {
+        return environment.arriving(d, lambda);
+    }
+
+    /// The rectified coordinates of a world direction through the portal's front (false
+    /// behind it), with dω/d(u, v).
+    bool rectified(const Vec3& w, float& u, float& v, float& jacobian) const {
+        const Portal& p = portal();
+        const float wx = dot(w, p.x), wy = dot(w, p.y), wz = dot(w, p.z);
+        if (!(wz > 0.f)) return false;
+        u = std::clamp((std::atan2(wx, wz) + 0.5f * kPi) * kInvPi, 0.f, 1.f);
+        v = std::clamp((std::atan2(wy, wz) + 0.5f * kPi) * kInvPi, 0.f, 1.f);
+        jacobian = portal_jacobian(wx, wy, wz);
+        return jacobian > 0.f;
+    }
+    Vec3 direction(float u, float v, float& jacobian) const {
+        const Portal& p = portal();
+        const float tx = std::tan((u - 0.5f) * kPi), ty = std::tan((v - 0.5f) * kPi);
+        const float inv = 1.f / std::sqrt(1.f + tx * tx + ty * ty);
+        const float wx = tx * inv, wy = ty * inv, wz = inv;
+        jacobian = portal_jacobian(wx, wy, wz);
+        return normalize(p.x * wx + p.y * wy + p.z * wz);
+    }
+    /// The (u, v) rectangle of the directions from q through the portal; false when q is not
+    /// behind it.
+    bool window(const Vec3& q, WindowedPiecewiseConstant2D::Window& w) const {
+        const Portal& p = portal();
+        const Vec3 r = q - p.origin;
+        const float rx = dot(r, p.x), ry = dot(r, p.y), depth = -dot(r, p.z);
+        if (!(depth > 0.f)) return false;
+        auto coordinate = [&](float along) { return (std::atan2(along, depth) + 0.5f * kPi) * kInvPi; };
+        w = {coordinate(-rx), coordinate(-ry), coordinate(p.width - rx), coordinate(p.height - ry)};
+        return true;
+    }
+
+    float pdf_li(const LightSampleContext& ctx, const Vec3& wi) const {
+        float u, v, jacobian;
+        WindowedPiecewiseConstant2D::Window w;
+        if (!window(ctx.p, w) || !rectified(wi, u, v, jacobian)) return 0.f;
+        return sampling->distribution.pdf(u, v, w) / jacobian;
+    }
+
+    bool sample_li(const LightSampleContext& ctx, const SampledWavelengths& lambda, float u1, float u2,
+                   LightSample& ls) const {
+        WindowedPiecewiseConstant2D::Window w;
+        if (!window(ctx.p, w)) return false;
+        float u, v, square_pdf, jacobian;
+        if (!sampling->distribution.sample(u1, u2, w, u, v, square_pdf)) return false;
+        ls.wi = direction(u, v, jacobian);
+        // The density as a ray along the direction finds it (the rounding of the direction
+        // may move it across a cell edge).
+        ls.pdf = pdf_li(ctx, ls.wi);
+        if (!(ls.pdf > 0.f) || !std::isfinite(ls.pdf)) return false;
+        ls.L = arriving(ls.wi, lambda);
+        ls.infinite = true;
+        return true;
+    }
+
+    /// A light subpath's origin: a point on the portal, entering the room along o.w.
+    std::optional<LightOrigin> sample_le(const SampledWavelengths& lambda, float u1, float u2, float /*u_side*/,
+                                         float u3, float u4, float /*time*/) const {
+        float u, v, square_pdf, jacobian;
+        if (!sampling->distribution.sample(u1, u2, {}, u, v, square_pdf)) return std::nullopt;
+        const Vec3 towards = direction(u, v, jacobian);
+        LightOrigin o;
+        o.infinite = true;
+        o.w = -towards;
+        o.pdf_dir = pdf_le_dir(Vec3(), o.w);
+        const float cos_theta = dot(towards, portal().z);
+        if (!(o.pdf_dir > 0.f) || !std::isfinite(o.pdf_dir) || !(cos_theta > 0.f)) return std::nullopt;
+        o.p = portal().origin + portal().edge1 * u3 + portal().edge2 * u4;
+        o.p_err = Vec3(0, 0, 0);
+        o.Le = arriving(towards, lambda);
+        o.pdf_pos = 1.f / (portal().width * portal().height * cos_theta);
+        return o;
+    }
+    /// Solid-angle density of sample_le's direction w (the light arrives from −w).
+    float pdf_le_dir(const Vec3& /*n*/, const Vec3& w) const {
+        float u, v, jacobian;
+        if (!rectified(-w, u, v, jacobian)) return 0.f;
+        return sampling->distribution.pdf(u, v, {}) / jacobian;
+    }
+    /// Density across the ray of the portal point from which a ray travelling along d (unit)
+    /// reaches p: 1/(A cos θ), or 0 when that ray does not come through the portal.
+    float pdf_le_pos(const Vec3& p, const Vec3& d) const {
+        const Portal& P = portal();
+        const float cos_theta = -dot(d, P.z);
+        if (!(cos_theta > 0.f)) return 0.f;
+        const Vec3 r = p - P.origin;
+        const float depth = -dot(r, P.z);
+        if (!(depth >= 0.f)) return 0.f;
+        const Vec3 q = r - d * (depth / cos_theta);  // the crossing of the portal's plane
+        const float qx = dot(q, P.x), qy = dot(q, P.y);
+        if (!(qx >= 0.f && qx <= P.width && qy >= 0.f && qy <= P.height)) return 0.f;
+        return 1.f / (P.width * P.height * cos_theta);
+    }
+};
+
+/// The portal light of `environment` through the rectangle origin, + edge1, + edge2 (its
+/// front, edge1 × edge2, facing the environment). Throws std::invalid_argument ("what is
+/// wrong; expected what") for edges of zero length or not perpendicular.
+PortalLight make_portal_light(const EnvironmentMapLight& environment, const Vec3& origin, const Vec3& edge1,
+                              const Vec3& edge2);
+
+}  // namespace spt

@@ -1,0 +1,233 @@
+// Portals (model/lights/portal_light.h) and the windowed distribution they sample
+// (core/windowed_distribution.h): window integrals against sums over cells, sampled points
+// against the density (chi-square over the window's cells, which a window cutting through
+// cells must get right), directions through the portal and only through it, densities 0
+// elsewhere, and malformed portals refused. Renders with portals are in
+// test_environment_map_scenes.cpp; the light contract's row in test_light_contract.cpp.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include "chi2.h"
+#include "core/windowed_distribution.h"
+#include "model/lights/portal_light.h"
+
+namespace spt {
+namespace {
+
+using Window = WindowedPiecewiseConstant2D::Window;
+
+/// A function of strong contrast with zero cells: 12 × 9 cells.
+WindowedPiecewiseConstant2D test_distribution(std::vector<float>* values = nullptr) {
+    const int nx = 12, ny = 9;
+    std::vector<float> f;
+    for (int j = 0; j < ny; ++j)
+        for (int i = 0; i < nx; ++i) f.push_back((i * 7 + j * 3) % 5 == 0 ? 0.f : float(1 + (i * j) % 7) * (i == 4 ? 20.f : 1.f));
+    if (values) *values = f;
+    return WindowedPiecewiseConstant2D(f, nx, ny);
+}
+
+/// ∫ over w of the piecewise-constant f by the overlap of each cell with w.
+double integral_by_cells(const std::vector<float>& f, int nx, int ny, const Window& w) {
+    double sum = 0;
+    for (int j = 0; j < ny; ++j)
+        for (int i = 0; i < nx; ++i) {
+            const double ox = std::max(0.0, std::min<double>(w.x1, double(i + 1) / nx) - std::max<double>(w.x0, double(i) / nx));
+            const double oy = std::max(0.0, std::min<double>(w.y1, double(j + 1) / ny) - std::max<double>(w.y0, double(j) / ny));
+            sum += f[std::size_t(j * nx + i)] * ox * oy;
+        }
+    return sum;
+}
+
+const std::vector<Window> kWindows = {{0.f, 0.f, 1.f, 1.f}, {0.13f, 0.21f, 0.71f, 0.64f}, {0.3f, 0.05f, 0.34f, 0.93f},
+                                      {0.26f, 0.5f, 0.29f, 0.52f}, {0.5f, 0.0f, 1.0f, 0.11f}};
+
+TEST(WindowedDistribution, WindowIntegralsAreTheCellsOverlap) {
+    std::vector<float> f;
+    const WindowedPiecewiseConstant2D d = test_distribution(&f);
+    for (const Window& w : kWindows) {
+        const double ref = integral_by_cells(f, 12, 9, w);
+        EXPECT_NEAR(d.integral(w), ref, 1e-9 * std::max(1.0, ref));
+    }
+    EXPECT_EQ(d.integral({0.5f, 0.5f, 0.5f, 0.7f}), 0.0);  // an empty window
+}
+
+TEST(WindowedDistribution, SamplesFollowTheDensityInsideTheWindow) {
+    // Bins: the window's pieces of the cells; expected counts from the exact overlaps.
+    std::vector<float> f;
+    const WindowedPiecewiseConstant2D d = test_distribution(&f);
+    std::mt19937_64 rng(3);
+    std::uniform_real_distribution<float> u(0.f, 1.f);
+    for (const Window& w : kWindows) {
+        const int n = 200000;
+        std::vector<double> observed(12 * 9, 0.0), expected(12 * 9, 0.0);
+        const double total = integral_by_cells(f, 12, 9, w);
+        for (int j = 0; j < 9; ++j)
+            for (int i = 0; i < 12; ++i) {
+                Window cell{float(i) / 12, float(j) / 9, float(i + 1) / 12, float(j + 1) / 9};
+                cell = {std::max(cell.x0, w.x0), std::max(cell.y0, w.y0), std::min(cell.x1, w.x1), std::min(cell.y1, w.y1)};
+                if (cell.x1 > cell.x0 && cell.y1 > cell.y0) expected[std::size_t(j * 12 + i)] = n * integral_by_cells(f, 12, 9, cell) / total;
+            }
+        for (int k = 0; k < n; ++k) {
+            float x, y, pdf;
+            ASSERT_TRUE(d.sample(u(rng), u(rng), w, x, y, pdf));
+            ASSERT_TRUE(x >= w.x0 && x <= w.x1 && y >= w.y0 && y <= w.y1) << x << ", " << y;
+            const int i = std::min(11, int(double(x) * 12)), j = std::min(8, int(double(y) * 9));
+            ASSERT_GT(f[std::size_t(j * 12 + i)], 0.f) << "a point in a cell of f = 0";
+            ASSERT_NEAR(pdf, d.pdf(x, y, w), 1e-5f * pdf);
+            ASSERT_NEAR(pdf, f[std::size_t(j * 12 + i)] / total, 1e-4 * pdf);
+            observed[std::size_t(j * 12 + i)] += 1;
+        }
+        const spt_test::Chi2Result r = spt_test::chi2_test(observed, expected);
+        EXPECT_GT(r.p_value, 1e-5) << "window " << w.x0 << " " << w.y0 << " " << w.x1 << " " << w.y1 << ": X² = " << r.statistic;
+        EXPECT_EQ(r.observed_in_empty, 0);
+    }
+}
+
+TEST(WindowedDistribution, DensityIsZeroOutsideTheWindowAndBadValuesThrow) {
+    const WindowedPiecewiseConstant2D d = test_distribution();
+    const Window w{0.2f, 0.2f, 0.4f, 0.6f};
+    EXPECT_EQ(d.pdf(0.1f, 0.3f, w), 0.f);
+    EXPECT_EQ(d.pdf(0.3f, 0.7f, w), 0.f);
+    EXPECT_GT(d.pdf(0.3f, 0.3f, w), 0.f);
+    float x, y, pdf;
+    EXPECT_FALSE(d.sample(0.5f, 0.5f, {0.3f, 0.3f, 0.3f, 0.5f}, x, y, pdf));
+    EXPECT_THROW(WindowedPiecewiseConstant2D({1.f, -1.f}, 2, 1), std::invalid_argument);
+    EXPECT_THROW(WindowedPiecewiseConstant2D({1.f, NAN}, 2, 1), std::invalid_argument);
+    EXPECT_THROW(WindowedPiecewiseConstant2D({1.f, 1.f}, 3, 1), std::invalid_argument);
+}
+
+/// A lat-long map with a small bright sun and a dim sky, under a 0.6 × 0.4 window in the
+/// plane x = 1 whose front (edge1 × edge2 = +x) faces the map.
+PortalLight window_light() {
+    const int w = 64, h = 32;
+    std::vector<float> rgb;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const bool sun = std::abs(x - 49) <= 1 && std::abs(y - 11) <= 1;
+            rgb.insert(rgb.end(), {sun ? 200.f : 0.3f, sun ? 180.f : 0.4f, sun ? 150.f : 0.7f * float(h - y) / h});
+        }
+    EnvironmentMapLight env;
+    env.map = make_environment_map(w, h, 3, rgb, EnvironmentMapping::equirect);
+    return make_portal_light(env, {1.f, -0.1f, -0.3f}, {0, 0.4f, 0}, {0, 0, 0.6f});
+}
+
+/// Where the ray from p along d crosses the portal's plane lies inside the portal.
+bool passes_through(const Portal& portal, const Vec3& p, const Vec3& d) {
+    const float t = dot(portal.origin - p, portal.z) / dot(d, portal.z);
+    if (!(t > 0.f)) return false;
+    const Vec3 q = p + d * t - portal.origin;
+    const float a = dot(q, portal.x), b = dot(q, portal.y);
+    return a >= -1e-4f && a <= portal.width + 1e-4f && b >= -1e-4f && b <= portal.height + 1e-4f;
+}
+
+TEST(PortalLight, SampledDirectionsPassThroughThePortalAndFollowTheirDensity) {
+    const PortalLight light = window_light();
+    const SampledWavelengths lambda = SampledWavelengths::sample(0.4f);
+    std::mt19937_64 rng(5);
+    std::uniform_real_distribution<float> u(0.f, 1.f);
+    for (const Vec3 p : {Vec3(0, 0, 0), Vec3(0.9f, 0.5f, 0.8f), Vec3(-0.8f, -0.9f, -0.7f)}) {
+        const LightSampleContext ctx{p, {}, {0, 1, 0}, {0, 1, 0}, true};
+        // The directions' rectified coordinates, binned 16 × 16 over the window.
+        WindowedPiecewiseConstant2D::Window w;
+        ASSERT_TRUE(light.window(p, w));
+        const int n = 100000, bins = 16;
+        std::vector<double> observed(bins * bins, 0.0), expected(bins * bins, 0.0);
+        for (int k = 0; k < n; ++k) {
+            LightSample ls;
+            ASSERT_TRUE(light.sample_li(ctx, lambda, u(rng), u(rng), ls));
+            ASSERT_TRUE(passes_through(light.portal(), p, ls.wi)) << "a direction that misses the portal";
+            ASSERT_GT(ls.L[0], 0.f);
+            float uu, vv, jacobian;
+            ASSERT_TRUE(light.rectified(ls.wi, uu, vv, jacobian));
+            const int i = std::clamp(int((uu - w.x0) / (w.x1 - w.x0) * bins), 0, bins - 1);
+            const int j = std::clamp(int((vv - w.y0) / (w.y1 - w.y0) * bins), 0, bins - 1);
+            observed[std::size_t(j * bins + i)] += 1;
+        }
+        const double total = light.sampling->distribution.integral(w);
+        for (int j = 0; j < bins; ++j)
+            for (int i = 0; i < bins; ++i) {
+                const float x0 = w.x0 + (w.x1 - w.x0) * float(i) / bins, x1 = w.x0 + (w.x1 - w.x0) * float(i + 1) / bins;
+                const float y0 = w.y0 + (w.y1 - w.y0) * float(j) / bins, y1 = w.y0 + (w.y1 - w.y0) * float(j + 1) / bins;
+                expected[std::size_t(j * bins + i)] = n * light.sampling->distribution.integral({x0, y0, x1, y1}) / total;
+            }
+        const spt_test::Chi2Result r = spt_test::chi2_test(observed, expected);
+        EXPECT_GT(r.p_value, 1e-5) << "X² = " << r.statistic;
+    }
+}
+
+TEST(PortalLight, DensityIsPositiveThroughThePortalAndZeroElsewhere) {
+    const PortalLight light = window_light();
+    std::mt19937_64 rng(9);
+    std::uniform_real_distribution<float> u(-1.f, 1.f);
+    const Vec3 p(0.2f, 0.1f, -0.2f);
+    const LightSampleContext ctx{p, {}, {0, 1, 0}, {0, 1, 0}, true};
+    int through = 0;
+    for (int k = 0; k < 20000; ++k) {
+        const Vec3 d = normalize(Vec3(u(rng), u(rng), u(rng)));
+        const float pdf = light.pdf_li(ctx, d);
+        // Directions within 1e-4 of an edge may round either way.
+        if (passes_through(light.portal(), p, d)) {
+            EXPECT_GT(pdf, 0.f);
+            ++through;
+        } else {
+            const Portal& q = light.portal();
+            const bool near_edge = passes_through({q.origin - q.x * 0.01f - q.y * 0.01f, q.edge1 + q.x * 0.02f,
+                                                   q.edge2 + q.y * 0.02f, q.x, q.y, q.z, q.width + 0.02f, q.height + 0.02f},
+                                                  p, d);
+            if (!near_edge) {
+                EXPECT_EQ(pdf, 0.f);
+            }
+        }
+    }
+    EXPECT_GT(through, 100);
+    // In front of the portal (outside) nothing is sampled.
+    const LightSampleContext outside{{1.5f, 0.f, 0.f}, {}, {0, 1, 0}, {0, 1, 0}, true};
+    LightSample ls;
+    EXPECT_FALSE(light.sample_li(outside, SampledWavelengths::sample(0.4f), 0.3f, 0.6f, ls));
+    EXPECT_EQ(light.pdf_li(outside, {1, 0, 0}), 0.f);
+}
+
+TEST(PortalLight, LightSubpathsEnterThroughThePortal) {
+    // Their directions, binned 16 × 16 in the rectified (u, v) of the light's arrival, follow
+    // the whole square's distribution.
+    const PortalLight light = window_light();
+    std::mt19937_64 rng(13);
+    std::uniform_real_distribution<float> u(0.f, 1.f);
+    const int n = 100000, bins = 16;
+    std::vector<double> observed(bins * bins, 0.0), expected(bins * bins, 0.0);
+    for (int k = 0; k < n; ++k) {
+        const auto o = light.sample_le(SampledWavelengths::sample(0.4f), u(rng), u(rng), 0.f, u(rng), u(rng), 0.f);
+        ASSERT_TRUE(o.has_value());
+        float uu, vv, jacobian;
+        ASSERT_TRUE(light.rectified(-o->w, uu, vv, jacobian));
+        observed[std::size_t(std::min(bins - 1, int(vv * bins)) * bins + std::min(bins - 1, int(uu * bins)))] += 1;
+        if (k >= 2000) continue;
+        ASSERT_LT(dot(o->w, light.portal().z), 0.f) << "a subpath leaving the room";
+        // A point one unit into the room along the ray finds the same origin density.
+        const Vec3 inside = o->p + o->w;
+        ASSERT_NEAR(light.pdf_le_pos(inside, o->w), o->pdf_pos, 1e-4f * o->pdf_pos);
+        ASSERT_NEAR(light.pdf_le_dir({}, o->w), o->pdf_dir, 1e-4f * o->pdf_dir);
+    }
+    const double total = light.sampling->distribution.integral({});
+    for (int j = 0; j < bins; ++j)
+        for (int i = 0; i < bins; ++i)
+            expected[std::size_t(j * bins + i)] =
+                n * light.sampling->distribution.integral({float(i) / bins, float(j) / bins, float(i + 1) / bins, float(j + 1) / bins}) / total;
+    const spt_test::Chi2Result r = spt_test::chi2_test(observed, expected);
+    EXPECT_GT(r.p_value, 1e-5) << "X² = " << r.statistic;
+    // A ray that reaches its point from outside the portal's rectangle has density 0.
+    EXPECT_EQ(light.pdf_le_pos({0, 0, 3}, {-1, 0, 0}), 0.f);
+}
+
+TEST(PortalLight, MalformedPortalsAreRefused) {
+    const PortalLight ok = window_light();
+    EXPECT_THROW(make_portal_light(ok.environment, {0, 0, 0}, {1, 0, 0}, {0.1f, 1, 0}), std::invalid_argument);
+    EXPECT_THROW(make_portal_light(ok.environment, {0, 0, 0}, {0, 0, 0}, {0, 1, 0}), std::invalid_argument);
+    EXPECT_THROW(make_portal_light(ok.environment, {0, 0, 0}, {1, 0, 0}, {2, 0, 0}), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace spt
