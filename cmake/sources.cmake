@@ -23,6 +23,9 @@ set(SPT_CORE_SOURCES
     src/model/bsdfs/plastic.cpp
     src/model/lights/environment_map.cpp
     src/model/lights/portal_light.cpp
+    src/model/lights/hosek_wilkie.cpp
+    src/model/lights/sky_light.cpp
+    src/model/lights/sun_light.cpp
     src/io/density_grid_reader.cpp
     src/io/checksums.cpp
     src/io/embedded_files.cpp

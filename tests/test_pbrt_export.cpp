@@ -185,7 +185,9 @@ TEST(PbrtExport, WhatPbrtCannotExpressIsAComment) {
                                                                     {"sigma_a", num(0.1)},
                                                                     {"sigma_s", num(0.1)}})}}));
     d.root.set("medium", str("fog"));
+    d.root.set("background", ParamValue::dict({{"type", str("sky")}, {"sun_elevation_degrees", num(30)}}));
     const std::string t = export_text(d);
+    EXPECT_TRUE(std::regex_search(t, std::regex("\n# the background's Hosek-Wilkie sky and sun are not exported[^\n]*\n")));
     EXPECT_TRUE(std::regex_search(t, std::regex("\n# plane \\(shape 2\\): pbrt-v4 has no infinite plane[^\n]*\n")));
     EXPECT_TRUE(std::regex_search(t, std::regex("\n# participating media[^\n]*not exported[^\n]*\n")));
     // Every line is a comment, a directive or a continuation of one: nothing else.

@@ -259,6 +259,11 @@ private:
     void background(const ParamValue& bg) {
         const ParamValue* type = bg.is_object() ? bg.peek("type") : nullptr;
         if (type && type->is_string() && type->as_string() == "image") return environment_map(bg);
+        if (type && type->is_string() && type->as_string() == "sky") {
+            comment("the background's Hosek-Wilkie sky and sun are not exported: pbrt-v4 has no sky model (an "
+                    "equal-area map of the sky, named as an \"image\" background, can stand in for it)");
+            return;
+        }
         const std::string l = light_spectrum("L", bg, "background");
         if (l.empty()) return;
         line("# the constant background: an infinite light");

@@ -103,10 +103,18 @@ void Scene::set_background(PortalLight portal) {
     lights.emplace_back(std::move(portal));
 }
 
+void Scene::set_background(SkyLight sky, std::optional<SunLight> sun) {
+    remove_background();
+    lights.emplace_back(std::move(sky));
+    if (sun) lights.emplace_back(std::move(*sun));
+}
+
 void Scene::remove_background() {
-    for (std::size_t i = 0; i < lights.size(); ++i) {
+    // Backwards: a sky's sun follows it.
+    for (std::size_t i = lights.size(); i-- > 0;) {
         if (!std::holds_alternative<EnvironmentLight>(lights[i]) && !std::holds_alternative<EnvironmentMapLight>(lights[i]) &&
-            !std::holds_alternative<PortalLight>(lights[i]))
+            !std::holds_alternative<PortalLight>(lights[i]) && !std::holds_alternative<SkyLight>(lights[i]) &&
+            !std::holds_alternative<SunLight>(lights[i]))
             continue;
         lights.erase(lights.begin() + static_cast<std::ptrdiff_t>(i));
         if (i < light_textures.size()) light_textures.erase(light_textures.begin() + static_cast<std::ptrdiff_t>(i));
@@ -115,7 +123,6 @@ void Scene::remove_background() {
             for (auto& shape : shapes)
                 if (shape.light > static_cast<int>(i)) --shape.light;
         });
-        break;
     }
 }
 

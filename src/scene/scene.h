@@ -145,7 +145,9 @@ struct Scene : ShapeArrays {
     void set_background(EnvironmentMapLight map);
     /// Makes an environment map sampled through a portal the background.
     void set_background(PortalLight portal);
-    /// Removes the background (constant or map), if any.
+    /// Makes a sky, and its sun if any, the background (in place of any other).
+    void set_background(SkyLight sky, std::optional<SunLight> sun);
+    /// Removes the background (constant, map, or sky and sun), if any.
     void remove_background();
     /// Adds the emitter for a shape of the given kind (a quad's or a mesh's triangles share
     /// one) and returns the index to store in the shapes' `light`.

@@ -80,9 +80,14 @@ private:
 
     // ---------------------------- Background ----------------------------
 
-    /// A spectrum (the constant environment) or an environment map, {"type": "image", ...}.
+    /// A spectrum (the constant environment), an environment map, {"type": "image", ...},
+    /// or the Hosek–Wilkie sky and sun, {"type": "sky", ...}.
     void background(const ParamValue& v) {
         const ParamValue* type = v.is_object() ? v.peek("type") : nullptr;
+        if (type && type->is_string() && type->as_string() == "sky") {
+            sky(v);
+            return;
+        }
         if (!type || !type->is_string() || type->as_string() != "image") {
             m_scene.set_background(spectrum(v, "background", SpectrumUse::Emission));
             return;
@@ -154,6 +159,38 @@ private:
             return;
         }
         m_scene.set_background(std::move(light));
+    }
+
+    /// {"type": "sky", "sun_elevation_degrees": η, "sun_azimuth_degrees": φ, "turbidity": T,
+    ///  "ground_albedo": a, "sun": true|false, "scale": s}: the sky light and the sun's disc.
+    void sky(const ParamValue& v) {
+        const std::string what = "background sky";
+        v.find("type");
+        const double deg = 3.14159265358979323846 / 180.0;
+        const double elevation =
+            number_in(required(v, "sun_elevation_degrees", what), what + " sun_elevation_degrees", 0, 90) * deg;
+        double azimuth = 0, turbidity = 3, albedo = 0.1, scale = 1;
+        bool with_sun = true;
+        if (const ParamValue* a = v.find("sun_azimuth_degrees"))
+            azimuth = number_in(*a, what + " sun_azimuth_degrees", -360, 360) * deg;
+        if (const ParamValue* t = v.find("turbidity")) turbidity = number_in(*t, what + " turbidity", 1, 10);
+        if (const ParamValue* a = v.find("ground_albedo")) albedo = number_in(*a, what + " ground_albedo", 0, 1);
+        if (const ParamValue* s = v.find("scale")) scale = number_in(*s, what + " scale", 0, 1e30, true);
+        if (const ParamValue* s = v.find("sun")) {
+            if (!s->is_bool()) wrong_type(*s, what + " sun", "true or false");
+            with_sun = s->as_bool();
+        }
+        all_read(v, what);
+        SkyLight sky_light;
+        sky_light.model = make_sky_model(elevation, azimuth, turbidity, albedo);
+        sky_light.scale = static_cast<float>(scale);
+        std::optional<SunLight> sun;
+        if (with_sun) {
+            sun.emplace();
+            sun->model = make_sun_model(elevation, azimuth, turbidity);
+            sun->scale = static_cast<float>(scale);
+        }
+        m_scene.set_background(std::move(sky_light), std::move(sun));
     }
 
     /// The rotation of an environment map: the linear part of `tr`, which must turn

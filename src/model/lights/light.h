@@ -8,7 +8,8 @@
 ///  type                           LightType (light_sample.h): delta_position (point, spot),
 ///                                 delta_direction (none yet), area (a surface rays hit:
 ///                                 quad, sphere, triangles, quadrics, the infinite plane),
-///                                 infinite (what escaping rays see: the environment).
+///                                 infinite (what escaping rays see: the environment,
+///                                 the sky and the sun's disc).
 ///  power()                        mean emitted power over 380–780 nm (up to a common
 ///                                 scale): lights are chosen in proportion to it.
 ///  sample_li(ctx, λ, u1, u2, ls)  a direction towards the light from the reference point
@@ -82,15 +83,17 @@
 #include "model/lights/portal_light.h"
 #include "model/lights/quad_light.h"
 #include "model/lights/quadric_light.h"
+#include "model/lights/sky_light.h"
 #include "model/lights/sphere_light.h"
 #include "model/lights/spot_light.h"
+#include "model/lights/sun_light.h"
 #include "model/lights/triangle_mesh_light.h"
 
 namespace spt {
 
 using Light =
     std::variant<PointLight, SphereLight, QuadLight, TriangleMeshLight, QuadricLight, PlaneLight, EnvironmentLight,
-                 SpotLight, EnvironmentMapLight, PortalLight>;
+                 SpotLight, EnvironmentMapLight, PortalLight, SkyLight, SunLight>;
 
 /// A set of LightTypes, for visit_light_of.
 constexpr unsigned light_types(std::initializer_list<LightType> types) {
