@@ -38,6 +38,8 @@ import numpy as np
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT / "validation"))
 from pfm import read_pfm  # noqa: E402
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from envmap_compare import rel_mse  # noqa: E402
 
 MITSUBA_SCRIPT = r"""
 import json, sys, time
@@ -149,10 +151,6 @@ for i, seed in enumerate(a["seeds"]):
     out[str(i)] = t
 print(json.dumps({"spp": spp, "times": out}))
 """
-
-
-def rel_mse(x: np.ndarray, ref: np.ndarray) -> float:
-    return float(np.mean((x - ref) ** 2 / (ref ** 2 + 1e-2)))
 
 
 def render_ours(program: Path, out: Path, seed: int, args, *, seconds: float = 0, spp: int = 0):

@@ -86,6 +86,33 @@ std::string error_of(const std::filesystem::path& dir, const std::string& text) 
     return "(no error)";
 }
 
+struct ErrorCase {
+    std::string text, expected;
+};
+
+/// Each case's scene text (written into `dir`) fails to load with one line starting with
+/// `expected` (file names compared from the folder on: the command line gave them absolute).
+void expect_located_errors(const std::filesystem::path& dir, const std::vector<ErrorCase>& cases) {
+    for (const ErrorCase& c : cases) {
+        std::string e = error_of(dir, c.text);
+        for (std::size_t at; (at = e.find(dir.string() + "/")) != std::string::npos;) e.erase(at, dir.string().size() + 1);
+        EXPECT_EQ(e.rfind(c.expected, 0), 0u) << "got: " << e << "\nexpected it to start with: " << c.expected;
+        EXPECT_EQ(e.find('\n'), std::string::npos) << e;
+    }
+}
+
+/// The pbrt-v4 text this program writes for the scene file `file` (written next to it).
+std::string exported_pbrt(const std::filesystem::path& dir, const std::string& file) {
+    const std::optional<SceneSource> src = read_scene_source((dir / file).string());
+    EXPECT_TRUE(src.has_value());
+    if (!src) return "";
+    PbrtExportSettings settings;
+    settings.output_path = (dir / "out.pbrt").string();
+    settings.scene_folder = src->folder;
+    settings.read_relative = src->read_relative;
+    return export_pbrt(src->description, settings).text;
+}
+
 const EnvironmentMapLight& map_of(const Scene& s) {
     EXPECT_EQ(s.infinite_light_indices.size(), 1u);
     return std::get<EnvironmentMapLight>(s.lights.at(std::size_t(s.infinite_light_indices.at(0))));
@@ -130,11 +157,8 @@ TEST(EnvironmentMapScene, MalformedMapsAreOneLocatedLine) {
     write_pfm(dir / "black.pfm", 4, 2, [](int, int) { return std::array<float, 3>{0.f, 0.f, 0.f}; });
     write_pfm(dir / "wide.pfm", 4, 2, [](int, int) { return std::array<float, 3>{1.f, 1.f, 1.f}; });
     // The background's "file" value is on line 3 of scene_text, after `"background": `.
-    const auto bg = [](const std::string& members) { return "{\"type\": \"image\", " + members + "}"; };
-    struct Case {
-        std::string background, expected;
-    };
-    const std::vector<Case> cases = {
+    const auto bg = [](const std::string& members) { return scene_text("{\"type\": \"image\", " + members + "}"); };
+    expect_located_errors(dir, {
         {bg(R"("file": "text.pfm")"), "scene.json:3:47: environment map \"text.pfm\": "},
         {bg(R"("file": "nan.pfm")"), "scene.json:3:47: environment map \"nan.pfm\": texel (2, 1) is NaN; expected finite radiance"},
         {bg(R"("file": "inf.pfm")"), "scene.json:3:47: environment map \"inf.pfm\": texel (3, 0) is infinite; expected finite radiance"},
@@ -147,14 +171,7 @@ TEST(EnvironmentMapScene, MalformedMapsAreOneLocatedLine) {
         {bg(R"("file": "wide.pfm", "transform": {"scale": [1, 2, 1]})"), "scene.json:3:72: background image transform shears or stretches directions"},
         {bg(R"("file": "wide.pfm", "sampling": "cosine")"), "scene.json:3:71: unknown background image sampling \"cosine\""},
         {bg(R"("file": "wide.pfm", "colour": 1)"), "scene.json:3:59: unknown key \"colour\" in background image"},
-    };
-    for (const Case& c : cases) {
-        std::string e = error_of(dir, scene_text(c.background));
-        // Names are as the command line gave them (here absolute): compare from the folder on.
-        for (std::size_t at; (at = e.find(dir.string() + "/")) != std::string::npos;) e.erase(at, dir.string().size() + 1);
-        EXPECT_EQ(e.rfind(c.expected, 0), 0u) << "got: " << e << "\nexpected it to start with: " << c.expected;
-        EXPECT_EQ(e.find('\n'), std::string::npos) << e;
-    }
+    });
 }
 
 TEST(EnvironmentMapScene, PbrtInfiniteLightWithAFilename) {
@@ -189,13 +206,7 @@ TEST(EnvironmentMapScene, ExportedToPbrtReadsBackAsTheSameMap) {
     write_pfm(dir / "sky.pfm", 16, 8, [](int x, int y) { return sky(x, y, 16, 8); });
     write_file(dir / "scene.json", scene_text(R"({"type": "image", "file": "square.pfm", "mapping": "equal_area", "scale": 1.5,
         "transform": {"rotate": {"axis": [1, 0.5, 0], "degrees": -70}}})"));
-    const std::optional<SceneSource> src = read_scene_source((dir / "scene.json").string());
-    ASSERT_TRUE(src.has_value());
-    PbrtExportSettings settings;
-    settings.output_path = (dir / "out.pbrt").string();
-    settings.scene_folder = src->folder;
-    settings.read_relative = src->read_relative;
-    const std::string text = export_pbrt(src->description, settings).text;
+    const std::string text = exported_pbrt(dir, "scene.json");
     EXPECT_NE(text.find("LightSource \"infinite\" \"string filename\" \"square.pfm\" \"float scale\" 1.5"), std::string::npos) << text;
     write_file(dir / "out.pbrt", text);
     const Scene original = load_scene_file((dir / "scene.json").string(), {});
@@ -207,9 +218,7 @@ TEST(EnvironmentMapScene, ExportedToPbrtReadsBackAsTheSameMap) {
     for (const Vec3& d : {Vec3{0, 1, 0}, normalize(Vec3{0.3f, -0.2f, 0.9f}), normalize(Vec3{-0.7f, 0.1f, -0.2f})})
         EXPECT_NEAR(a.arriving(d, lambda)[2], b.arriving(d, lambda)[2], 1e-4f * a.arriving(d, lambda)[2]);
     write_file(dir / "scene.json", scene_text(R"({"type": "image", "file": "sky.pfm"})"));
-    const std::optional<SceneSource> latlong = read_scene_source((dir / "scene.json").string());
-    ASSERT_TRUE(latlong.has_value());
-    const std::string t2 = export_pbrt(latlong->description, settings).text;
+    const std::string t2 = exported_pbrt(dir, "scene.json");
     EXPECT_EQ(t2.find("LightSource \"infinite\""), std::string::npos);
     EXPECT_NE(t2.find("imgtool makeequiarea"), std::string::npos);
 }
@@ -363,10 +372,7 @@ TEST(EnvironmentMapScene, MalformedPortalsAreOneLocatedLine) {
   "background": {"type": "image", "file": "sky.pfm", "portal": )" + portal + extra + R"(},
   "shapes": [{"type": "sphere", "center": [0, 0, 0], "radius": 0.3, "material": "white"}]})";
     };
-    struct Case {
-        std::string text, expected;
-    };
-    const std::vector<Case> cases = {
+    expect_located_errors(dir, {
         {room(R"({"origin": [1, 0, 0], "edge1": [0, 1, 0], "edge2": [0, 0.5, 1]})"),
          "scene.json:2:64: background image portal: the portal's edges are not perpendicular; expected a rectangle"},
         {room(R"({"origin": [1, 0, 0], "edge1": [0, 0, 0], "edge2": [0, 0, 1]})"),
@@ -375,13 +381,7 @@ TEST(EnvironmentMapScene, MalformedPortalsAreOneLocatedLine) {
         {room("[1, 0, 0]"), "scene.json:2:64: background image portal is an array"},
         {room(R"({"origin": [1, 0, 0], "edge1": [0, 1, 0], "edge2": [0, 0, 1]})", R"(, "sampling": "uniform")"),
          "scene.json:2:64: background image has a \"portal\" and \"sampling\": \"uniform\""},
-    };
-    for (const Case& c : cases) {
-        std::string e = error_of(dir, c.text);
-        for (std::size_t at; (at = e.find(dir.string() + "/")) != std::string::npos;) e.erase(at, dir.string().size() + 1);
-        EXPECT_EQ(e.rfind(c.expected, 0), 0u) << "got: " << e << "\nexpected it to start with: " << c.expected;
-        EXPECT_EQ(e.find('\n'), std::string::npos) << e;
-    }
+    });
 }
 
 TEST(EnvironmentMapScene, PbrtPortalsReadAndWriteInPbrtsFrame) {
@@ -402,13 +402,7 @@ TEST(EnvironmentMapScene, PbrtPortalsReadAndWriteInPbrtsFrame) {
     EXPECT_NEAR(p.portal().z.x, -1.f, 1e-6f);  // (0, 0, 1) × (0, 1, 0): the map lies at −x
     EXPECT_FLOAT_EQ(p.portal().width, 0.6f);
     EXPECT_FLOAT_EQ(p.portal().height, 0.4f);
-    const std::optional<SceneSource> src = read_scene_source((dir / "a.pbrt").string());
-    ASSERT_TRUE(src.has_value());
-    PbrtExportSettings settings;
-    settings.output_path = (dir / "out.pbrt").string();
-    settings.scene_folder = src->folder;
-    settings.read_relative = src->read_relative;
-    const std::string out = export_pbrt(src->description, settings).text;
+    const std::string out = exported_pbrt(dir, "a.pbrt");
     EXPECT_NE(out.find("\"point3 portal\" [ -1 -0.1 -0.3 -1 0.3 -0.3 -1 0.3 0.3 -1 -0.1 0.3 ]"), std::string::npos) << out;
 }
 

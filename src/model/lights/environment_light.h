@@ -4,19 +4,17 @@
 // through a non-delta lobe (both sides matter).
 //
 // Light subpaths (pbrt's infinite lights): a direction d uniform over the sphere, then a
-// point uniform on a disk of radius R perpendicular to d, one radius upstream of the centre
-// of the scene's bounding sphere (centre c, radius R); the ray leaves the disk along d. As a
-// vertex the environment lies at infinity and is measured by direction: density 1/(4π) in
-// solid angle (pdf_le_dir), and the first vertex x of its subpath has the area density
-// (1/(πR²))·|cos θx| (pdf_le_pos times the cosine at x), with no 1/r² (pbrt-v3's
-// InfiniteLightDensity and PdfLight). See render/light_sampling.h for what the bounding
-// sphere covers and why that stays unbiased.
+// point on the bounding sphere's disk facing d (bounding_disk.h). As a vertex the
+// environment lies at infinity and is measured by direction: density 1/(4π) in solid angle
+// (pdf_le_dir). See render/light_sampling.h for what the bounding sphere covers and why that
+// stays unbiased.
 #pragma once
 #include <cmath>
 #include <optional>
 
 #include "core/frame.h"
 #include "core/sampling.h"
+#include "model/lights/bounding_disk.h"
 #include "model/lights/light_sample.h"
 #include "spectral/spectrum.h"
 
@@ -62,12 +60,8 @@ struct EnvironmentLight {
         LightOrigin o;
         o.infinite = true;
         o.w = sample_uniform_sphere(u1, u2);
-        const Frame frame(o.w);
-        const float r = radius * std::sqrt(u3), phi = 2.f * kPi * u4;
-        o.p = center - o.w * radius + frame.s * (r * std::cos(phi)) + frame.t * (r * std::sin(phi));
-        o.p_err = Vec3(0, 0, 0);
+        place_on_bounding_disk(o, center, radius, u3, u4);
         o.Le = Le.sample(lambda);
-        o.pdf_pos = 1.f / (kPi * radius * radius);
         o.pdf_dir = pdf_le_dir(Vec3(), o.w);
         return o;
     }
@@ -77,10 +71,7 @@ struct EnvironmentLight {
     /// reaches p: 1/(πR²), or 0 when no ray leaving the disk passes through p (p outside the
     /// cylinder the disk sweeps, or upstream of the disk).
     float pdf_le_pos(const Vec3& p, const Vec3& d) const {
-        const Vec3 v = p - center;
-        const float along = dot(v, d);
-        if (along < -radius || length_squared(v - d * along) > radius * radius) return 0.f;
-        return 1.f / (kPi * radius * radius);
+        return bounding_disk_pdf_pos(center, radius, p, d);
     }
 };
 

@@ -33,12 +33,12 @@
 #include <optional>
 #include <vector>
 
-#include "core/frame.h"
 #include "core/no_init_allocator.h"
 #include "core/parallel_rows.h"
 #include "core/piecewise_constant.h"
 #include "core/sampling.h"
 #include "geometry/sphere_mappings.h"
+#include "model/lights/bounding_disk.h"
 #include "model/lights/light_sample.h"
 #include "spectral/rgb_sigmoid_table.h"
 
@@ -176,12 +176,8 @@ struct EnvironmentMapLight {
         o.w = -towards;
         o.pdf_dir = pdf_le_dir(Vec3(), o.w);
         if (!(o.pdf_dir > 0.f) || !std::isfinite(o.pdf_dir)) return std::nullopt;
-        const Frame frame(o.w);
-        const float r = radius * std::sqrt(u3), phi = 2.f * kPi * u4;
-        o.p = center - o.w * radius + frame.s * (r * std::cos(phi)) + frame.t * (r * std::sin(phi));
-        o.p_err = Vec3(0, 0, 0);
+        place_on_bounding_disk(o, center, radius, u3, u4);
         o.Le = arriving(towards, lambda);
-        o.pdf_pos = 1.f / (kPi * radius * radius);
         return o;
     }
     /// Solid-angle density of sample_le's direction w (the light arrives from −w).
@@ -192,10 +188,7 @@ struct EnvironmentMapLight {
     /// Planar density of the disk point through which a ray travelling along d (unit)
     /// reaches p: 1/(πR²), or 0 when no ray leaving the disk passes through p.
     float pdf_le_pos(const Vec3& p, const Vec3& d) const {
-        const Vec3 v = p - center;
-        const float along = dot(v, d);
-        if (along < -radius || length_squared(v - d * along) > radius * radius) return 0.f;
-        return 1.f / (kPi * radius * radius);
+        return bounding_disk_pdf_pos(center, radius, p, d);
     }
 
 private:

@@ -22,6 +22,7 @@
 #include <optional>
 
 #include "core/frame.h"
+#include "model/lights/bounding_disk.h"
 #include "model/lights/hosek_wilkie.h"
 #include "model/lights/light_sample.h"
 
@@ -90,22 +91,15 @@ struct SunLight {
         o.infinite = true;
         o.w = -*towards;
         o.pdf_dir = cone_pdf();
-        const Frame frame(o.w);
-        const float r = radius * std::sqrt(u3), phi = 2.f * kPi * u4;
-        o.p = center - o.w * radius + frame.s * (r * std::cos(phi)) + frame.t * (r * std::sin(phi));
-        o.p_err = Vec3(0, 0, 0);
+        place_on_bounding_disk(o, center, radius, u3, u4);
         o.Le = arriving(*towards, lambda);
-        o.pdf_pos = 1.f / (kPi * radius * radius);
         return o;
     }
     /// Solid-angle density of sample_le's direction w (the light arrives from −w).
     float pdf_le_dir(const Vec3& /*n*/, const Vec3& w) const { return on_disc(-w) ? cone_pdf() : 0.f; }
     /// Planar density of the disk point through which a ray along d (unit) reaches p.
     float pdf_le_pos(const Vec3& p, const Vec3& d) const {
-        const Vec3 v = p - center;
-        const float along = dot(v, d);
-        if (along < -radius || length_squared(v - d * along) > radius * radius) return 0.f;
-        return 1.f / (kPi * radius * radius);
+        return bounding_disk_pdf_pos(center, radius, p, d);
     }
 
     bool on_disc(const Vec3& d) const { return length_squared(d - model->direction) <= model->chord2; }
