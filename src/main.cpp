@@ -190,7 +190,7 @@ void list_scenes() {
     for (const std::string& name : spt::builtin_scene_names()) {
         const spt::Scene scene = *spt::load_builtin_scene(name, spt::SpectralResolution{});
         const std::string size = std::to_string(scene.width) + "x" + std::to_string(scene.height);
-        std::printf("%-15s %-9s %5d spp  %-4s  %s\n", name.c_str(), size.c_str(), scene.spp,
+        std::printf("%-16s %-9s %5d spp  %-4s  %s\n", name.c_str(), size.c_str(), scene.spp,
                     spt::integrator_name(scene.integrator.kind.value_or(spt::IntegratorKind::path)),
                     scene.summary.c_str());
     }

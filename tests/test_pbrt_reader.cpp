@@ -169,6 +169,18 @@ TEST(PbrtReader, TwoSidedAreaLightsAndLightsWithoutASpectrumEmitD65) {
     EXPECT_NEAR(at(bb, "normalize_nm").as_number(), 2.8977721e6 / 3000, 1e-9);
 }
 
+TEST(PbrtReader, PbrtsFluorescentIlluminantsAreOurNamedOnes) {
+    for (const auto& [pbrt, ours] : {std::pair<std::string, std::string>{"stdillum-F2", "F2"},
+                                     {"stdillum-F7", "F7"},
+                                     {"stdillum-F11", "F11"}}) {
+        const SceneDescription d = read("WorldBegin\nLightSource \"point\" \"spectrum I\" \"" + pbrt + "\"\n");
+        const ParamValue& l = at(d.root, "lights").items().at(0);
+        const ParamValue& s = at(at(at(l, "intensity"), "factors").items().at(0), "spectrum");
+        EXPECT_EQ(at(s, "type").as_string(), "illuminant") << pbrt;
+        EXPECT_EQ(at(s, "name").as_string(), ours) << pbrt;
+    }
+}
+
 TEST(PbrtReader, SpotLightsFollowTheTransformAndPbrtsFalloff) {
     const SceneDescription d = read("WorldBegin\nTranslate 0 1 0\nLightSource \"spot\" \"point3 from\" [0 0 0] "
                                     "\"point3 to\" [0 -1 0] \"float coneangle\" 40 \"float conedeltaangle\" 10\n");

@@ -240,6 +240,27 @@ TEST(SceneLoader, NormalizedSpectrumHasTheGivenLuminance) {
     EXPECT_EQ(kd_at(R"({"type": "normalized", "spectrum": 0.3, "luminance": 0})", 500), 0.0);
 }
 
+// Lamps with lines (spectra/cie_f*.csv, cie_led_b3.csv) are named illuminants of luminance 1
+// × scale (560 nm may fall between their lines), their 5 nm tables kept point for point: F11's
+// green line is 72.84 at 545 nm against 39.59 and 32.61 at 540 and 550 in its table.
+TEST(SceneLoader, NamedLampsWithLinesHaveLuminanceOneAndKeepTheirLines) {
+    for (const char* name : {"F2", "F7", "F11", "LED-B3"}) {
+        const std::string s = std::string(R"({"type": "illuminant", "name": ")") + name + R"(", "scale": 3})";
+        const Scene scene = load(scene_json("", "{\"type\": \"sphere\", \"center\": [0,0,0], \"radius\": 1, \"emission\": " + s + "}"));
+        EXPECT_NEAR(cie_luminance(std::get<SphereLight>(scene.lights.at(0)).Le.source()), 3.0, 3e-12) << name;
+    }
+    const std::string f11 = R"({"type": "illuminant", "name": "F11"})";
+    const double at545 = emission_at(f11, 545);
+    EXPECT_NEAR(emission_at(f11, 540) / at545, 39.59 / 72.84, 1e-12);
+    EXPECT_NEAR(emission_at(f11, 550) / at545, 32.61 / 72.84, 1e-12);
+    EXPECT_NEAR(emission_at(f11, 542.5) / at545, (39.59 + 72.84) / 2 / 72.84, 1e-12);  // linear between points
+    // D65 and A stay 1 at 560 nm (EverySpectrumForm), so the two rules coexist.
+    expect_error_at(scene_json("", "{\"type\": \"sphere\", \"center\": [0,0,0], \"radius\": 1, \"emission\": "
+                                   R"({"type": "illuminant", "name": "F12"})"
+                                   "}"),
+                    "\"F12\"", "Expected one of: D65, A, F2, F7, F11, LED-B3");
+}
+
 TEST(SceneLoader, ProductAndNormalizedErrorsAreLocated) {
     auto emitter = [](const std::string& spectrum) {
         return scene_json("", "{\"type\": \"sphere\", \"center\": [0,0,0], \"radius\": 1, \"emission\": " + spectrum + "}");

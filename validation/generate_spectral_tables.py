@@ -36,6 +36,20 @@ CMFS_NAME = "CIE 1931 2 Degree Standard Observer"
 COLORCHECKER_NAME = "ColorChecker N Ohta"
 CAMERA_NAME = "Nikon 5100 (NPL)"
 
+# (colour-science key, file, what the CIE calls it): fluorescent lamps of CIE 15:2004 and a
+# phosphor-converted white LED of CIE 015:2018 (LED-B3, 4103 K: about the colour
+# temperature of F2 and F11, so the three kinds of light can be compared at one white).
+SPIKY_ILLUMINANTS = (
+    ("FL2", "cie_f2.csv", "CIE 15:2004 tables, CIE illuminant F2 (standard cool "
+     "white fluorescent lamp, halophosphate, 4230 K)"),
+    ("FL7", "cie_f7.csv", "CIE 15:2004 tables, CIE illuminant F7 (broadband "
+     "fluorescent lamp, D65 simulator, 6500 K)"),
+    ("FL11", "cie_f11.csv", "CIE 15:2004 tables, CIE illuminant F11 (narrow "
+     "tri-band fluorescent lamp, 4000 K)"),
+    ("LED-B3", "cie_led_b3.csv", "CIE 015:2018, CIE illuminant LED-B3 "
+     "(phosphor-converted blue white LED, 4103 K)"),
+)
+
 
 def snake_case(name: str) -> str:
     """Lower-case; every run of characters outside [a-z0-9] becomes one '_'."""
@@ -158,6 +172,25 @@ def generate(out: Path) -> None:
                 f"colour-science {version} dataset colour.SDS_ILLUMINANTS['{key}'].",
                 provenance(f"colour.SDS_ILLUMINANTS['{key}']"),
                 note,
+            ],
+            ["wavelength_nm", "value"],
+            sd.wavelengths,
+            sd.values,
+        )
+
+    # --- Spiky light: fluorescent lamps and a white LED --------------------
+    for key, filename, title in SPIKY_ILLUMINANTS:
+        sd = colour.SDS_ILLUMINANTS[key]
+        write_table(
+            out / filename,
+            [
+                f"Source: {title}, relative spectral power distribution, "
+                f"{range_text(sd.wavelengths)}; colour-science {version} dataset "
+                f"colour.SDS_ILLUMINANTS['{key}'].",
+                provenance(f"colour.SDS_ILLUMINANTS['{key}']"),
+                "The tabulation's own scale (not 100 at 560 nm, where this lamp may have no "
+                "line): the renderer's named illuminant rescales it to luminance 1 "
+                "(scenes/README.md). Native range and step, no interpolation or extrapolation.",
             ],
             ["wavelength_nm", "value"],
             sd.wavelengths,

@@ -29,6 +29,10 @@ CAMERA_NAME = "Nikon 5100 (NPL)"
 Y_SUM_DATASET = 106.856917101172
 Y_SUM_PUBLISHED = 106.856895
 
+# Fluorescent lamps and a white LED (lines a few nm wide): file -> colour-science key.
+SPIKY = {"cie_f2.csv": "FL2", "cie_f7.csv": "FL7", "cie_f11.csv": "FL11",
+         "cie_led_b3.csv": "LED-B3"}
+
 
 # --------------------------------------------------------------------------
 # Parser
@@ -149,6 +153,9 @@ def reference_columns(filename: str):
     if filename in ("cie_d65.csv", "cie_a.csv"):
         sd = colour.SDS_ILLUMINANTS["D65" if filename == "cie_d65.csv" else "A"]
         return {"value": (sd.wavelengths, sd.values)}
+    if filename in SPIKY:
+        sd = colour.SDS_ILLUMINANTS[SPIKY[filename]]
+        return {"value": (sd.wavelengths, sd.values)}
     if filename == "colorchecker.csv":
         checker = colour.SDS_COLOURCHECKERS[CHECKER_NAME]
         return {
@@ -184,6 +191,15 @@ EXPECTED = {
         97, 300, 780, 5,
         ["CIE 015:2018", "illuminant A", "5 nm", "colour.SDS_ILLUMINANTS['A']"],
     ),
+    "cie_f2.csv": (["value"], 81, 380, 780, 5,
+                   ["CIE 15:2004", "illuminant F2", "5 nm", "colour.SDS_ILLUMINANTS['FL2']"]),
+    "cie_f7.csv": (["value"], 81, 380, 780, 5,
+                   ["CIE 15:2004", "illuminant F7", "5 nm", "colour.SDS_ILLUMINANTS['FL7']"]),
+    "cie_f11.csv": (["value"], 81, 380, 780, 5,
+                    ["CIE 15:2004", "illuminant F11", "5 nm", "colour.SDS_ILLUMINANTS['FL11']"]),
+    "cie_led_b3.csv": (["value"], 81, 380, 780, 5,
+                       ["CIE 015:2018", "illuminant LED-B3", "5 nm",
+                        "colour.SDS_ILLUMINANTS['LED-B3']"]),
     "colorchecker.csv": (
         None,
         81, 380, 780, 5,

@@ -644,6 +644,8 @@ private:
     ParamValue named_spectrum(const std::string& name, SourcePos pos) const {
         static const std::map<std::string, std::pair<std::string, std::string>> names = {
             {"stdillum-D65", {"illuminant", "D65"}}, {"stdillum-A", {"illuminant", "A"}},
+            {"stdillum-F2", {"illuminant", "F2"}},   {"stdillum-F7", {"illuminant", "F7"}},
+            {"stdillum-F11", {"illuminant", "F11"}},
             {"glass-BK7", {"glass", "N-BK7"}},       {"glass-BAF10", {"glass", "N-BAF10"}},
             {"glass-FK51A", {"glass", "N-FK51A"}},   {"glass-LASF9", {"glass", "N-LASF9"}},
             {"glass-F10", {"glass", "SF10"}},        {"glass-F11", {"glass", "SF11"}}};

@@ -91,12 +91,29 @@ SpectrumSource SpectrumParser::spectrum_source(const ParamValue& v, const std::s
         if (type == "illuminant") {
             const ParamValue& n = required(v, "name", w);
             const std::string& name = string(n, w + " name");
-            const char* file = name == "D65" ? "cie_d65.csv" : name == "A" ? "cie_a.csv" : nullptr;
-            if (!file)
-                fail(n.pos(), "unknown illuminant " + quote_text(name) + "." + suggestion(name, {"D65", "A"}) +
-                                  " Expected D65 or A");
-            // Tables are normalised to 100 at 560 nm; here to 1.
-            return table_column(embedded_spectral_table(file), "value", opt("scale", 1) / 100.0);
+            // D65 and A are tabulated as 100 at 560 nm and made 1 there. Lamps with lines are
+            // tabulated on scales of their own, and 560 nm may fall between their lines, so they
+            // are made luminance 1 instead (cie_luminance, the `normalized` form's).
+            struct Named {
+                const char* name;
+                const char* file;
+                bool at_560;
+            };
+            static constexpr Named kNamed[] = {{"D65", "cie_d65.csv", true},   {"A", "cie_a.csv", true},
+                                               {"F2", "cie_f2.csv", false},    {"F7", "cie_f7.csv", false},
+                                               {"F11", "cie_f11.csv", false}, {"LED-B3", "cie_led_b3.csv", false}};
+            const Named* found = nullptr;
+            std::vector<std::string> names;
+            for (const Named& k : kNamed) {
+                names.emplace_back(k.name);
+                if (name == k.name) found = &k;
+            }
+            if (!found)
+                fail(n.pos(), "unknown illuminant " + quote_text(name) + "." + suggestion(name, names) +
+                                  " Expected one of: " + join(names));
+            const SpectralTable& t = embedded_spectral_table(found->file);
+            if (found->at_560) return table_column(t, "value", opt("scale", 1) / 100.0);
+            return table_column(t, "value", opt("scale", 1) / cie_luminance(table_column(t, "value", 1.0)));
         }
         if (type == "glass") {
             const ParamValue& n = required(v, "name", w);
