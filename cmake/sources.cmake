@@ -17,6 +17,7 @@ set(SPT_CORE_SOURCES
     src/io/atomic_file.cpp
     src/io/auto_exposure.cpp
     src/model/aperture.cpp
+    src/model/fluorescence.cpp
     src/model/bsdfs/coat_albedo.cpp
     src/model/bsdfs/dielectric.cpp
     src/model/bsdfs/lobe_mix.cpp
@@ -82,6 +83,7 @@ set(SPT_CORE_SOURCES
     src/spectral/cie.cpp
     src/spectral/glass_catalog.cpp
     src/spectral/metal_catalog.cpp
+    src/spectral/dye_catalog.cpp
     src/spectral/observer.cpp
     src/spectral/sensor.cpp
     src/spectral/color_space.cpp

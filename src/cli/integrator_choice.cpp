@@ -39,6 +39,14 @@ IntegratorChoice choose_integrator(const Options& options, const Scene& scene) {
         feature = "participating media";
         instead = heterogeneous ? "--integrator path" : "--integrator bdpt or path";
     }
+    // Re-emission at another wavelength is sampled backwards from the camera only
+    // (model/fluorescence.h); light subpaths would need the forward densities, and the
+    // volumetric path tracer has no fluorescent vertex.
+    if (!feature && scene.effects.fluorescence && (s.kind != IntegratorKind::path || scene.effects.media)) {
+        feature = s.kind == IntegratorKind::path ? "fluorescence together with participating media"
+                                                 : "fluorescence (it cannot render re-emission at another wavelength)";
+        instead = s.kind == IntegratorKind::path ? "a scene without one of them" : "--integrator path";
+    }
     if (!feature && s.kind == IntegratorKind::vcm && scene.effects.motion_blur) {
         // Its merges join light subpaths of a whole pass, each at its own shutter time.
         feature = "motion blur";

@@ -28,6 +28,10 @@ inline constexpr int kBounceDims = 7;
 /// so they come from the sample's PCG stream and the bounce blocks above stay as they were.
 inline constexpr int kCausticNee = 1 << 20;
 
+/// A fluorescent vertex's two numbers (reflect or re-emit, then the excitation wavelength),
+/// from the PCG stream likewise: only scenes with fluorescence draw them.
+inline constexpr int kFluorescence = 1 << 20;
+
 /// The dimension of `offset` in the block of bounce `depth` (0: the first hit).
 constexpr int bounce(int depth, int offset) { return kCameraDims + depth * kBounceDims + offset; }
 

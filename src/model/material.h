@@ -1,10 +1,13 @@
 // Surface material: a name (for messages) and a BSDF of the closed set (model/bsdfs/bsdf.h).
+// A fluorescent material adds a re-radiation part (model/fluorescence.h).
 // Emission is not a material property: an emitter is attached to the shape (Hit::light).
 #pragma once
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "model/bsdfs/bsdf.h"
+#include "model/fluorescence.h"
 #include "model/textures/texture_binding.h"
 
 namespace spt {
@@ -32,6 +35,9 @@ struct Material {
     /// bin's largest value), so the flags and the load-time checks (kd + ks + kt ≤ 1) hold
     /// at every point of the surface.
     std::vector<TextureBinding> textures;
+    /// The re-radiation part of a fluorescent material (model/fluorescence.h); `bsdf` is its
+    /// reflectance part. Null for every other material.
+    std::shared_ptr<const Fluorescence> fluorescence;
 };
 
 }  // namespace spt

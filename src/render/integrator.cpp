@@ -7,6 +7,7 @@
 #include "core/sample_dimensions.h"
 #include "core/sobol_sampler.h"
 #include "model/bsdfs/bsdf.h"
+#include "model/fluorescence.h"
 #include "render/direct_light.h"
 #include "render/light_context.h"
 #include "render/mis.h"
@@ -85,9 +86,11 @@ struct NoScratch {};
 /// kCaustic (scenes with Effects::caustic_spheres, light sampling mis): the specular chains
 /// through and off spheres as a second next-event strategy (render/sphere_chain_nee.h).
 /// Sampler: Rng (independent numbers, drawn in sequence; seek_dimension is a no-op) or
-/// SobolSampler (each number from its dimension of core/sample_dimensions.h). Each flag
-/// off compiles its code away, so the scenes without it pay nothing for it.
-template <bool kTextured, bool kCaustic, class Sampler>
+/// SobolSampler (each number from its dimension of core/sample_dimensions.h). kFluorescent
+/// (scenes with Effects::fluorescence): fluorescent vertices reflect or re-emit
+/// (model/fluorescence.h), which changes the path's wavelengths; the film's are restored at
+/// the end. Each flag off compiles its code away, so the scenes without it pay nothing for it.
+template <bool kTextured, bool kCaustic, bool kFluorescent, class Sampler>
 [[gnu::always_inline]] inline SampledSpectrum path_loop(const Scene& scene, const IntegratorSettings& settings,
                                                         Ray ray, float time, SampledWavelengths& lambda,
                                                         Sampler& rng, PathStats& stats) {
@@ -102,6 +105,7 @@ template <bool kTextured, bool kCaustic, class Sampler>
     const bool area_nee = settings.light_sampling != LightSampling::bsdf && !choices.empty();
     EmissionMis mis;
     [[maybe_unused]] std::conditional_t<kCaustic, SphereChainNee, NoScratch> chains;
+    [[maybe_unused]] const std::array<float, kLambdaCount> film_lambda = lambda.lambda;
     for (int depth = 0;; ++depth) {
         // ---- Find the next vertex; escaping rays see the infinite lights ----
         ++stats.rays;
@@ -144,8 +148,33 @@ template <bool kTextured, bool kCaustic, class Sampler>
         if constexpr (kCaustic)
             chains.sample(scene, settings, non_delta, depth, bsdf, *hit, wo, lambda, time, rng, beta, L, stats);
 
+        // ---- A fluorescent vertex: next-event estimation of its re-emission too (at one
+        // sampled excitation wavelength), then the path continues by reflection or by
+        // re-emission (model/fluorescence.h) ----
+        [[maybe_unused]] const Bsdf* scatter = &bsdf;
+        if constexpr (kFluorescent)
+            if (mat.fluorescence) {
+                const Fluorescence& fl = *mat.fluorescence;
+                seek_dimension(rng, dims::kFluorescence);
+                if (point_nee || area_nee) {
+                    const float u_lambda = rng.uniform(), ul = rng.uniform(), ul1 = rng.uniform(), ul2 = rng.uniform();
+                    SampledWavelengths excited = lambda;
+                    SampledSpectrum weight = beta;
+                    if (reemit(fl, excited, weight, u_lambda, 1.f)) {
+                        if (point_nee) L += weight * sample_point_lights(scene, fl.lobe(), *hit, wo, excited, time, stats);
+                        if (area_nee)
+                            L += weight * sample_area_light<kTextured>(scene, choices, fl.lobe(), *hit, ctx, wo, excited,
+                                                                     time, ul, ul1, ul2,
+                                                                     settings.light_sampling == LightSampling::mis, stats);
+                    }
+                }
+                const float u_branch = rng.uniform(), u_lambda = rng.uniform();
+                scatter = fluoresce_or_reflect(fl, bsdf, lambda, beta, u_branch, u_lambda);
+                if (!scatter) break;
+            }
+
         // ---- Continue the path: sample the BSDF, carry f·cos/p ----
-        const std::optional<BsdfSample> bs = sample_bounce(bsdf, *hit, wo, lambda, depth, rng);
+        const std::optional<BsdfSample> bs = sample_bounce(kFluorescent ? *scatter : bsdf, *hit, wo, lambda, depth, rng);
         if (!bs) break;
         beta *= bs->weight;
         eta_scale *= bs->eta_scale;
@@ -156,6 +185,7 @@ template <bool kTextured, bool kCaustic, class Sampler>
         // ---- Russian roulette ----
         if (!survives_roulette(settings, depth, [&] { return beta.max_value() * eta_scale; }, beta, rng)) break;
     }
+    if constexpr (kFluorescent) lambda.lambda = film_lambda;
     return L;
 }
 
@@ -164,8 +194,8 @@ template <class Sampler>
                                                 float time, SampledWavelengths& lambda, Sampler& rng,
                                                 PathStats& stats) {
     if (scene.effects.caustic_spheres && settings.caustic_nee && settings.light_sampling == LightSampling::mis)
-        return path_loop<true, true>(scene, settings, ray, time, lambda, rng, stats);
-    return path_loop<true, false>(scene, settings, ray, time, lambda, rng, stats);
+        return path_loop<true, true, false>(scene, settings, ray, time, lambda, rng, stats);
+    return path_loop<true, false, false>(scene, settings, ray, time, lambda, rng, stats);
 }
 
 /// Scenes with spheres for the specular chains, out of line like the textured loop: the
@@ -174,7 +204,17 @@ template <class Sampler>
 [[gnu::noinline]] SampledSpectrum caustic_path(const Scene& scene, const IntegratorSettings& settings, Ray ray,
                                                float time, SampledWavelengths& lambda, Sampler& rng,
                                                PathStats& stats) {
-    return path_loop<false, true>(scene, settings, ray, time, lambda, rng, stats);
+    return path_loop<false, true, false>(scene, settings, ray, time, lambda, rng, stats);
+}
+
+/// Scenes with fluorescent materials, out of line too; textured or not (the textured loop
+/// reads each material's flag), without the specular chains (BSDF sampling and the other
+/// lights' next-event estimation still find every light they would).
+template <class Sampler>
+[[gnu::noinline]] SampledSpectrum fluorescent_path(const Scene& scene, const IntegratorSettings& settings, Ray ray,
+                                                   float time, SampledWavelengths& lambda, Sampler& rng,
+                                                   PathStats& stats) {
+    return path_loop<true, false, true>(scene, settings, ray, time, lambda, rng, stats);
 }
 
 }  // namespace
@@ -189,10 +229,11 @@ template <class Sampler>
                                                   float time, SampledWavelengths& lambda, Rng& rng, PathStats& stats) {
     // Textured scenes and scenes with the specular chains take their own instances of the
     // loop, out of line.
+    if (scene.effects.fluorescence) [[unlikely]] return fluorescent_path(scene, settings, ray, time, lambda, rng, stats);
     if (scene.effects.textures) [[unlikely]] return textured_path(scene, settings, ray, time, lambda, rng, stats);
     if (scene.effects.caustic_spheres && settings.caustic_nee && settings.light_sampling == LightSampling::mis)
         [[unlikely]] return caustic_path(scene, settings, ray, time, lambda, rng, stats);
-    return path_loop<false, false>(scene, settings, ray, time, lambda, rng, stats);
+    return path_loop<false, false, false>(scene, settings, ray, time, lambda, rng, stats);
 }
 #pragma GCC diagnostic pop
 
@@ -200,10 +241,12 @@ template <class Sampler>
 [[gnu::noinline]] SampledSpectrum trace_path(const Scene& scene, const IntegratorSettings& settings, Ray ray,
                                              float time, SampledWavelengths& lambda, SobolSampler& sampler,
                                              PathStats& stats) {
+    if (scene.effects.fluorescence) [[unlikely]]
+        return fluorescent_path(scene, settings, ray, time, lambda, sampler, stats);
     if (scene.effects.textures) [[unlikely]] return textured_path(scene, settings, ray, time, lambda, sampler, stats);
     if (scene.effects.caustic_spheres && settings.caustic_nee && settings.light_sampling == LightSampling::mis)
         [[unlikely]] return caustic_path(scene, settings, ray, time, lambda, sampler, stats);
-    return path_loop<false, false>(scene, settings, ray, time, lambda, sampler, stats);
+    return path_loop<false, false, false>(scene, settings, ray, time, lambda, sampler, stats);
 }
 
 }  // namespace spt

@@ -306,6 +306,11 @@ RenderStats render(const Scene& scene, const RenderSettings& settings, Film& fil
     const bool vcm = settings.integrator.kind == IntegratorKind::vcm;
     // Merges join light and camera subpaths of different samples, so of different times.
     if (vcm && scene.effects.motion_blur) throw std::invalid_argument("vcm cannot render motion blur");
+    // Re-emission is sampled from the camera side only, by the surface path loop
+    // (model/fluorescence.h).
+    if (scene.effects.fluorescence && (settings.integrator.kind != IntegratorKind::path || scene.effects.media))
+        throw std::invalid_argument(std::string(integrator_name(settings.integrator.kind)) +
+                                    " cannot render fluorescence" + (scene.effects.media ? " with participating media" : ""));
     const int max_pass_spp = effective_pass_spp(settings);
     // Timed passes start with one sample, then follow the measured pace (a pixel's samples
     // are added in sample order whatever the passes, so the image does not change).

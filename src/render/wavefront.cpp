@@ -61,6 +61,7 @@ const char* wavefront_unsupported(const Scene& scene, const IntegratorSettings& 
     if (settings.kind != IntegratorKind::path) return "the bdpt and vcm integrators";
     if (scene.effects.media) return "participating media";
     if (scene.effects.textures) return "textures";
+    if (scene.effects.fluorescence) return "fluorescence";
     if (sampler != SamplerKind::independent) return "the sobol sampler";
     if (scene.effects.caustic_spheres && settings.caustic_nee && settings.light_sampling == LightSampling::mis)
         return "specular next-event estimation through or off spheres (add --caustic-nee off)";

@@ -20,6 +20,7 @@ std::string Effects::describe() const {
     add(motion_blur, "motion blur");
     add(media, "participating media");
     add(textures, "textures");
+    add(fluorescence, "fluorescence");
     add(caustic_spheres, "caustics through glass spheres or off reflecting ones");
     return s.empty() ? "none" : s;
 }

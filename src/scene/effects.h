@@ -17,6 +17,9 @@ struct Effects {
     bool motion_blur = false;        ///< something moves while the shutter is open
     bool media = false;              ///< participating media: the volumetric path tracer
     bool textures = false;           ///< a material or emitter bound to a texture
+    /// Fluorescent materials: the path integrator's loop that re-emits at other wavelengths
+    /// (model/fluorescence.h), spectra evaluated exactly (bins stop at 380 nm).
+    bool fluorescence = false;
     /// Smooth glass spheres or spheres with a delta reflection lobe, and emitting spheres or
     /// quads, without media: the path tracer's specular next-event estimation through the
     /// spheres (render/caustic_nee.h) or off them (render/reflection_nee.h) applies.

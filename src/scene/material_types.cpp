@@ -8,6 +8,7 @@
 
 #include "scene/scene.h"
 #include "scene/texture_parser.h"
+#include "spectral/dye_catalog.h"
 #include "spectral/metal_catalog.h"
 
 namespace spt {
@@ -168,6 +169,64 @@ Bsdf lobes(const MaterialParams& p) {
     return b;
 }
 
+/// A diffuse base under a fluorescent dye layer (model/fluorescence.h): the layer absorbs
+/// a(λ) = 1 − 10^(−density·ε(λ)) and re-emits; the base reflects what passes, kd = base·(1 − a).
+Bsdf fluorescent(const MaterialParams& p) {
+    const SpectrumParser& s = p.spectra;
+    const std::string w = p.what + " of type \"fluorescent\"";
+    const ParamValue& dv = s.required(p.def, "dye", w);
+    SpectrumSource excitation, emission;
+    double yield = 1;
+    std::string dye = "custom";
+    if (dv.is_object()) {
+        const std::string dw = w + " dye";
+        excitation = s.spectrum_source(s.required(dv, "excitation", dw), dw + " excitation");
+        emission = s.spectrum_source(s.required(dv, "emission", dw), dw + " emission");
+        yield = s.number_in(s.required(dv, "quantum_yield", dw), dw + " quantum_yield", 0, 1);
+        s.all_read(dv, dw);
+        for (const auto& [src, key] : {std::pair{&excitation, "excitation"}, std::pair{&emission, "emission"}}) {
+            double peak = 0;
+            for (double l = kTransportMin; l <= kTransportMax; l += 1.0) {
+                const double x = src->eval(l);
+                if (!(std::isfinite(x) && x >= 0))
+                    s.fail(dv.find(key)->pos(), dw + " " + key + " is " + number_text(x) + " at " + number_text(l) +
+                                                    " nm; expected a finite value >= 0 from 300 to 830 nm");
+                peak = std::max(peak, x);
+            }
+            if (!(peak > 0))
+                s.fail(dv.find(key)->pos(), dw + " " + key + " is 0 from 300 to 830 nm; expected a band there");
+        }
+    } else {
+        const std::string& name = s.string(dv, w + " dye");
+        const std::optional<DyeInfo> d = find_dye(name);
+        if (!d)
+            s.fail(dv.pos(), "unknown dye " + quote_text(name) + "." + suggestion(name, dye_names()) +
+                                 " Expected one of: " + join(dye_names()) + ", or an object with \"excitation\", "
+                                 "\"emission\" and \"quantum_yield\"");
+        excitation = d->excitation, emission = d->emission, yield = d->quantum_yield, dye = d->name;
+    }
+    if (const ParamValue* q = p.def.find("quantum_yield")) yield = s.number_in(*q, w + " quantum_yield", 0, 1);
+    double density = 1;
+    if (const ParamValue* d = p.def.find("density")) density = s.number_in(*d, w + " density", 0, 10, true);
+    SpectrumSource base = SpectrumSource::constant(0.9);
+    SourcePos base_pos = p.def.pos();
+    if (const ParamValue* b = p.def.find("base")) {
+        if (TextureParser::is_binding(*b)) s.fail(b->pos(), w + " base cannot be bound to a texture; expected a spectrum");
+        base = s.spectrum(*b, w + " base", SpectrumUse::Reflectance).source();
+        base_pos = b->pos();
+    }
+    auto fl = std::make_shared<const Fluorescence>(excitation, emission, density, yield, dye);
+    // 1 − a(λ) at the 1 nm bin centres (the absorptance the re-emission uses).
+    std::vector<std::pair<double, double>> pass;
+    for (double l = kTransportMin + 0.5; l < kTransportMax; l += 1.0)
+        pass.emplace_back(l, 1.0 - fl->absorptance(static_cast<float>(l)));
+    DiffuseBsdf d;
+    d.kd = s.spectrum_from(SpectrumSource::product({base, SpectrumSource::piecewise_linear(std::move(pass))}),
+                           base_pos, w + " reflectance", SpectrumUse::Reflectance);
+    if (p.fluorescence) *p.fluorescence = std::move(fl);
+    return d;
+}
+
 /// The microfacet types name their type in messages, and reject anisotropic keys with a
 /// message that says where they belong (the read check would only call them unknown).
 template <const char* kName>
@@ -224,6 +283,7 @@ const std::vector<MaterialType>& material_types() {
         {kDielectric, create_dielectric},
         {kPlastic, create_plastic},
         {kThinSheet, create_thin_sheet},
+        {"fluorescent", fluorescent},
     };
     return types;
 }

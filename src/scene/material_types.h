@@ -8,13 +8,17 @@
 //   dielectric  glass interface: "ior" spectrum; "roughness"; "film"
 //   plastic     diffuse base under a clear coat: "kd", "ior" (constant), "roughness"
 //   thin_sheet  soap bubble: "thickness_nm", "ior"
+//   fluorescent diffuse base under a fluorescent dye layer: "dye" (a name or {"excitation",
+//               "emission", "quantum_yield"}), "density", "quantum_yield", "base"
 // and the checks of their parameters for materials made in code.
 #pragma once
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "model/bsdfs/bsdf.h"
+#include "model/fluorescence.h"
 #include "scene/spectrum_parser.h"
 
 namespace spt {
@@ -40,6 +44,9 @@ struct MaterialParams {
     const std::string& what;
     const FloatParameter& number;
     const ReflectanceParameter& reflectance;
+    /// Where a fluorescent type puts its re-radiation part (Material::fluorescence); left
+    /// untouched by the other types.
+    std::shared_ptr<const Fluorescence>* fluorescence = nullptr;
 };
 
 /// A material type: its name in scene descriptions and the function that makes its BSDF from

@@ -77,8 +77,16 @@ void Scene::disable_dispersion() {
     finalize();
 }
 
+/// The material's flags: its BSDF's, and a re-emitting diffuse lobe when it fluoresces (a
+/// fluorescent surface whose reflectance part is black still scatters).
+static BsdfFlags material_flags(const Material& m) {
+    BsdfFlags f = bsdf_flags(m.bsdf);
+    if (m.fluorescence) f.bits |= BsdfFlags::reflection | BsdfFlags::non_delta;
+    return f;
+}
+
 int Scene::add_material(Material m) {
-    m.flags = bsdf_flags(m.bsdf);
+    m.flags = material_flags(m);
     m.textured = !m.textures.empty() || needs_tangent(m.bsdf);
     materials.push_back(std::move(m));
     return static_cast<int>(materials.size()) - 1;
@@ -292,7 +300,7 @@ void Scene::finalize() {
 void Scene::prepare_materials() {
     for (Material& m : materials) {
         validate_material(m);
-        m.flags = bsdf_flags(m.bsdf);
+        m.flags = material_flags(m);
         m.textured = !m.textures.empty() || needs_tangent(m.bsdf);
         for (const TextureBinding& b : m.textures) {
             require(b.parameter && b.texture >= 0 && b.texture < static_cast<int>(textures.size()),
@@ -426,6 +434,7 @@ void Scene::analyse_effects() {
             effects.transmission |= m.flags.has(BsdfFlags::transmission);
             effects.dispersion |= m.flags.has(BsdfFlags::dispersive);
             effects.textures |= m.textured;
+            effects.fluorescence |= m.fluorescence != nullptr;
         }
     };
     for_each_shape_array(material_effects);

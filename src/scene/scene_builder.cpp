@@ -456,7 +456,7 @@ private:
             }
             const FloatParameter number = float_parameter(bound);
             const ReflectanceParameter reflectance_parameter = reflectance;
-            m.bsdf = material_type->create({m_spectra, def, what, number, reflectance_parameter});
+            m.bsdf = material_type->create({m_spectra, def, what, number, reflectance_parameter, &m.fluorescence});
             for (const auto& [key, texture] : bound) {
                 const TexturableParameter* p = find_texturable(m.bsdf.index(), key);
                 if (!p) {
@@ -1056,7 +1056,14 @@ private:
 
 Scene build_scene(const SceneDescription& description, SpectralResolution resolution,
                   const RelativeFileReader& read_relative) {
-    return Builder(description.files, resolution, read_relative).load(description.root, description.name);
+    Scene scene = Builder(description.files, resolution, read_relative).load(description.root, description.name);
+    // Fluorescence carries light from the UV (model/fluorescence.h: transport from 300 nm) but
+    // bins stop at 380 nm, where a 365 nm lamp would read its 380 nm value: such scenes
+    // evaluate every spectrum exactly.
+    if (scene.effects.fluorescence && resolution.bins != SpectralResolution::kExact)
+        return Builder(description.files, SpectralResolution{SpectralResolution::kExact}, read_relative)
+            .load(description.root, description.name);
+    return scene;
 }
 
 }  // namespace spt

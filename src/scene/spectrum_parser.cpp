@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "spectral/cie.h"
+#include "spectral/dye_catalog.h"
 #include "spectral/glass_catalog.h"
 #include "spectral/rgb_to_spectrum.h"
 
@@ -115,6 +116,15 @@ SpectrumSource SpectrumParser::spectrum_source(const ParamValue& v, const std::s
             if (found->at_560) return table_column(t, "value", opt("scale", 1) / 100.0);
             return table_column(t, "value", opt("scale", 1) / cie_luminance(table_column(t, "value", 1.0)));
         }
+        if (type == "uv_lamp") {
+            const ParamValue& n = required(v, "name", w);
+            const std::string& name = string(n, w + " name");
+            const std::optional<SpectrumSource> lamp = find_uv_lamp(name);
+            if (!lamp)
+                fail(n.pos(), "unknown UV lamp " + quote_text(name) + "." + suggestion(name, uv_lamp_names()) +
+                                  " Expected one of: " + join(uv_lamp_names()));
+            return SpectrumSource::product({*lamp}, opt("scale", 1));
+        }
         if (type == "glass") {
             const ParamValue& n = required(v, "name", w);
             const std::string& name = string(n, w + " name");
@@ -158,7 +168,7 @@ SpectrumSource SpectrumParser::spectrum_source(const ParamValue& v, const std::s
         const ParamValue& t = *v.find("type");
         const std::vector<std::string> types = {"constant", "gaussian", "sigmoid", "blackbody", "table", "cauchy",
                                                 "sellmeier", "glass", "rgb", "illuminant", "colorchecker",
-                                                "product", "normalized"};
+                                                "product", "normalized", "uv_lamp"};
         fail(t.pos(), "unknown spectrum type " + quote_text(type) + "." + suggestion(type, types) +
                           " Expected one of: " + join(types));
     };
