@@ -104,9 +104,39 @@ def cmf_at(l: np.ndarray) -> np.ndarray:
 def oracle_xyz(name: str, illum: str) -> np.ndarray:
     # The film integrates continuous functions; a 0.1 nm grid with the CMFs linear between
     # their 1 nm entries is that integral to well below the render noise.
+    return xyz_of(dye(name), illum)
+
+
+GAMUT_NOTE = ("Luminance factor: Y over the Y of a perfect white under the same light (D65 and A only; above 1 "
+              "the colour is brighter than any reflectance can be). Reflectance gamut of an RGB space (D65 only): "
+              "its unit cube, the colours of reflectances 0-1 in each primary; a patch is outside when a linear "
+              "component of XYZ / Y_white lies outside [0, 1] (colour-science's sRGB and ITU-R BT.2020).")
+
+
+def gamut(xyz: np.ndarray, illum: str) -> tuple[str, str]:
+    """(luminance factor, the RGB spaces whose reflectance cube the colour lies outside)."""
+    if illum == "led365":
+        return "-", "-"
+    l = np.arange(360.05, 830, 0.1)
+    y = cmf_at(l)[:, 1]
+    white_y = (illuminant(illum)(l) * y).sum() / y.sum()
+    beta = f"{xyz[1] / white_y:.3f}"
+    if illum != "D65":
+        return beta, "-"
+    out = []
+    for space, label in (("sRGB", "sRGB"), ("ITU-R BT.2020", "Rec.2020")):
+        cs = colour.RGB_COLOURSPACES[space]
+        # XYZ relative to the spectral D65 white, taken as the space's own white (no adaptation).
+        rgb = colour.XYZ_to_RGB(xyz / white_y, cs, illuminant=cs.whitepoint, apply_cctf_encoding=False)
+        if rgb.min() < -1e-6 or rgb.max() > 1 + 1e-6:
+            out.append(label)
+    return beta, ", ".join(out) if out else "neither"
+
+
+def xyz_of(d: Dye, illum: str) -> np.ndarray:
     l = np.arange(360.05, 830, 0.1)
     cmf = cmf_at(l)
-    L = radiance(dye(name), illuminant(illum), l)
+    L = radiance(d, illuminant(illum), l)
     return (L[:, None] * cmf).sum(axis=0) / cmf[:, 1].sum()
 
 
@@ -153,11 +183,9 @@ def main() -> int:
     lines = ["# Fluorescence oracle: flat patch, closed form vs render", "",
              f"`python validation/fluorescence_oracle.py --spp {args.spp} --size {args.size}` "
              f"(density {DENSITY}, base {BASE}; pass: |render - oracle| <= {Z} standard errors in X, Y and Z).", "",
-             "Luminance factor: Y over the Y of a perfect white under the same light (above 1: brighter than any "
-             "reflectance can be). Outside sRGB (D65 only): a negative linear sRGB component of the oracle colour.",
-             "",
+             GAMUT_NOTE, "",
              "| dye | illuminant | oracle XYZ | render XYZ | standard error | max z | re-emitted share of Y "
-             "| luminance factor | outside sRGB |",
+             "| luminance factor | outside the reflectance gamut of |",
              "|---|---|---|---|---|---|---|---|---|"]
     ok = True
     for name in DYES:
@@ -169,16 +197,25 @@ def main() -> int:
             y = cmf_at(l)[:, 1]
             E = illuminant(illum)
             share = 1 - (radiance(reflected_only, E, l) * y).sum() / max((radiance(d, E, l) * y).sum(), 1e-30)
-            white_y = (E(l) * y).sum() / y.sum()
-            beta = want[1] / white_y  # luminance factor: above 1, no reflectance has this colour
-            rgb = colour.XYZ_to_sRGB(want / white_y, apply_cctf_encoding=False) if illum == "D65" else None
-            outside = "" if rgb is None else ("yes" if rgb.min() < 0 else "no")
+            beta, outside = gamut(want, illum)
             passed = bool(np.all(z <= Z))
             ok &= passed
             fmt = lambda v: "(" + ", ".join(f"{x:.5g}" for x in v) + ")"  # noqa: E731
             lines.append(f"| {name} | {illum} | {fmt(want)} | {fmt(got)} | {fmt(se)} | {z.max():.2f}"
-                         f"{'' if passed else ' FAIL'} | {share:.3f} | {beta:.3f} | {outside} |")
+                         f"{'' if passed else ' FAIL'} | {share:.3f} | {beta} | {outside} |")
             print(lines[-1], flush=True)
+    lines += ["", "## The chart's patches (scenes/fluorescent-chart.json, base 0.9, under D65; closed form only)", "",
+              "| dye | density | quantum yield | oracle XYZ | luminance factor | outside the reflectance gamut of |",
+              "|---|---|---|---|---|---|"]
+    for name in DYES:
+        for density, phi in ((1.0, None), (3.0, None), (3.0, 0.0)):
+            d = dye(name, density)
+            if phi is not None:
+                d = Dye(d.a, d.e, phi)
+            want = xyz_of(d, "D65")
+            beta, outside = gamut(want, "D65")
+            lines.append(f"| {name} | {density:g} | {d.phi:g} | ({', '.join(f'{x:.4g}' for x in want)}) "
+                         f"| {beta} | {outside} |")
     args.out.parent.mkdir(parents=True, exist_ok=True)
     args.out.write_text("\n".join(lines) + "\n")
     return 0 if ok else 1
