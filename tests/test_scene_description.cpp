@@ -209,13 +209,15 @@ const std::map<std::string, std::string> kMinimalMaterial = {
     {"dielectric", R"({"ior": 1.5})"},
     {"plastic", R"({"kd": 0.5})"},
     {"thin_sheet", R"({"thickness_nm": 400, "ior": 1.33})"},
+    {"fluorescent", R"({"dye": "fluorescein"})"},
 };
 
 TEST(MaterialTypes, EveryRowOfTheTableMakesItsOwnBsdf) {
     // A table row whose create function made another type's BSDF, or a type missing from the
-    // table, fails here.
+    // table, fails here. A fluorescent material is a diffuse BSDF plus its re-radiation part:
+    // the pair tells it apart.
     ASSERT_EQ(material_types().size(), kMinimalMaterial.size());
-    std::set<std::size_t> made;
+    std::set<std::pair<std::size_t, bool>> made;
     for (const MaterialType& t : material_types()) {
         ASSERT_TRUE(kMinimalMaterial.count(t.name)) << t.name;
         ASSERT_EQ(find_material_type(t.name), &t);
@@ -224,7 +226,7 @@ TEST(MaterialTypes, EveryRowOfTheTableMakesItsOwnBsdf) {
         SceneDescription d = sphere_scene(ParamValue::number(1));
         d.root.set("materials", ParamValue::dict({{"m", def}}));
         const Scene s = build_scene(d, SpectralResolution{}, kNoFiles);
-        made.insert(s.materials.at(0).bsdf.index());
+        made.insert({s.materials.at(0).bsdf.index(), s.materials.at(0).fluorescence != nullptr});
     }
     EXPECT_EQ(made.size(), material_types().size());
     EXPECT_EQ(find_material_type("velvet"), nullptr);
