@@ -1,4 +1,5 @@
 // The pathtracer program: parse flags, build the scene, render, write the images.
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <sys/resource.h>
@@ -187,10 +188,13 @@ int export_pbrt(const spt::Options& opt) {
 
 /// --list-scenes: one line per built-in scene, the name first (scripts take the first word).
 void list_scenes() {
-    for (const std::string& name : spt::builtin_scene_names()) {
+    const std::vector<std::string> names = spt::builtin_scene_names();
+    int width = 0;
+    for (const std::string& name : names) width = std::max(width, static_cast<int>(name.size()));
+    for (const std::string& name : names) {
         const spt::Scene scene = *spt::load_builtin_scene(name, spt::SpectralResolution{});
         const std::string size = std::to_string(scene.width) + "x" + std::to_string(scene.height);
-        std::printf("%-16s %-9s %5d spp  %-4s  %s\n", name.c_str(), size.c_str(), scene.spp,
+        std::printf("%-*s %-9s %5d spp  %-4s  %s\n", width, name.c_str(), size.c_str(), scene.spp,
                     spt::integrator_name(scene.integrator.kind.value_or(spt::IntegratorKind::path)),
                     scene.summary.c_str());
     }

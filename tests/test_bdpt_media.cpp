@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "cli/integrator_choice.h"
+#include "integrator_refusal.h"
 #include "test_scenes.h"
 
 namespace spt {
@@ -362,22 +362,10 @@ TEST(BdptMedia, ThreadCountDoesNotChangeTheFilmAndEveryPixelIsFinite) {
     EXPECT_GT(test::image_mean_y(*one).mean, 0.0);
 }
 
-/// The usage error choose_integrator gives `kind` on `scene`, or "(no error)".
-std::string integrator_refusal(IntegratorKind kind, const Scene& scene) {
-    Options o;
-    o.integrator = kind;
-    try {
-        choose_integrator(o, scene);
-    } catch (const UsageError& e) {
-        return e.what();
-    }
-    return "(no error)";
-}
-
 TEST(BdptMedia, BdptTakesHomogeneousMediaAndRefusesHeterogeneousOnesVcmRefusesMedia) {
     const Scene fog = fog_box();
-    EXPECT_EQ(integrator_refusal(IntegratorKind::bdpt, fog), "(no error)");
-    const std::string vcm = integrator_refusal(IntegratorKind::vcm, fog);
+    EXPECT_EQ(test::integrator_refusal(IntegratorKind::bdpt, fog), "(no error)");
+    const std::string vcm = test::integrator_refusal(IntegratorKind::vcm, fog);
     EXPECT_NE(vcm.find("does not support participating media"), std::string::npos) << vcm;
     EXPECT_NE(vcm.find("expected --integrator bdpt or path"), std::string::npos) << vcm;
     // Height fog: delta tracking has no closed-form distance density for bdpt's MIS weights.
@@ -387,11 +375,11 @@ TEST(BdptMedia, BdptTakesHomogeneousMediaAndRefusesHeterogeneousOnesVcmRefusesMe
                       "interior": "fog", "exterior": "fog"})"),
         "height fog");
     for (IntegratorKind kind : {IntegratorKind::bdpt, IntegratorKind::vcm}) {
-        const std::string error = integrator_refusal(kind, height_fog);
+        const std::string error = test::integrator_refusal(kind, height_fog);
         EXPECT_NE(error.find("does not support"), std::string::npos) << error;
         EXPECT_NE(error.find("--integrator path"), std::string::npos) << error;
     }
-    EXPECT_NE(integrator_refusal(IntegratorKind::bdpt, height_fog).find("heterogeneous"), std::string::npos);
+    EXPECT_NE(test::integrator_refusal(IntegratorKind::bdpt, height_fog).find("heterogeneous"), std::string::npos);
 }
 
 }  // namespace

@@ -168,6 +168,9 @@ TEST_F(Cli, ListScenesDescribesTheBuiltins) {
     EXPECT_NE(cornell.find("Cornell box"), std::string::npos) << cornell;
     EXPECT_NE(prism.find(" vcm "), std::string::npos) << prism;  // the scene file's choice
     for (const char* name : {"cornell-point", "glass-spheres", "showcase"}) EXPECT_FALSE(line_of(name).empty()) << name;
+    // A table: the size column starts at the same place on every line, however long the name.
+    const std::size_t size_column = lines[0].find_first_not_of(' ', lines[0].find(' '));
+    for (const std::string& l : lines) EXPECT_EQ(l.find_first_not_of(' ', l.find(' ')), size_column) << l;
 }
 
 struct BadCase {

@@ -186,7 +186,15 @@ TEST(PbrtExport, WhatPbrtCannotExpressIsAComment) {
                                                                     {"sigma_s", num(0.1)}})}}));
     d.root.set("medium", str("fog"));
     d.root.set("background", ParamValue::dict({{"type", str("sky")}, {"sun_elevation_degrees", num(30)}}));
+    ParamValue materials = *d.root.peek("materials");
+    materials.set("ink", ParamValue::dict({{"type", str("fluorescent")},
+                                           {"dye", str("fluorescein")},
+                                           {"surface", ParamValue::dict({{"type", str("conductor")},
+                                                                         {"metal", str("Au")}})}}));
+    d.root.set("materials", materials);
     const std::string t = export_text(d);
+    EXPECT_TRUE(std::regex_search(t, std::regex("\n# material \"ink\": its fluorescent dye layer[^\n]*\n"
+                                                "MakeNamedMaterial \"ink\" \"string type\" \"conductor\"")));
     EXPECT_TRUE(std::regex_search(t, std::regex("\n# the background's Hosek-Wilkie sky and sun are not exported[^\n]*\n")));
     EXPECT_TRUE(std::regex_search(t, std::regex("\n# plane \\(shape 2\\): pbrt-v4 has no infinite plane[^\n]*\n")));
     EXPECT_TRUE(std::regex_search(t, std::regex("\n# participating media[^\n]*not exported[^\n]*\n")));

@@ -55,20 +55,24 @@ float Fluorescence::sample_excitation(float u, float& pdf) const {
     return lambda;
 }
 
-const Bsdf* fluoresce_or_reflect(const Fluorescence& fl, const Bsdf& reflect, SampledWavelengths& lambda,
+const Bsdf* fluoresce_or_reflect(const Fluorescence& fl, const Bsdf& surface, SampledWavelengths& lambda,
                                  SampledSpectrum& beta, float u_branch, float u_lambda) {
     float w = 0.f;
     for (int j = 0; j < kLambdaCount; ++j) w += fl.reemission_weight(lambda.lambda[j]);
     w /= kLambdaCount;
+    const SampledSpectrum passed = fl.passed(lambda);
     float p_reflect = 1.f;
     if (w > 0.f) {
-        float r = 0.5f;  // a BSDF whose albedo is not read here: an even split
-        if (const DiffuseBsdf* d = std::get_if<DiffuseBsdf>(&reflect)) r = d->kd.sample(lambda).average();
-        p_reflect = r > 0.f ? std::clamp(r / (r + w), 0.05f, 0.95f) : 0.f;
+        // A diffuse surface's albedo is its kd; another type's depends on the direction and
+        // is taken as 1 (the choice only moves variance, never the mean).
+        SampledSpectrum r = passed;
+        if (const DiffuseBsdf* d = std::get_if<DiffuseBsdf>(&surface)) r *= d->kd.sample(lambda);
+        const float mean = r.average();
+        p_reflect = mean > 0.f ? std::clamp(mean / (mean + w), 0.05f, 0.95f) : 0.f;
     }
     if (u_branch < p_reflect) {
-        beta /= p_reflect;
-        return &reflect;
+        beta *= passed / p_reflect;
+        return &surface;
     }
     return reemit(fl, lambda, beta, u_lambda, 1.f - p_reflect) ? &fl.lobe() : nullptr;
 }

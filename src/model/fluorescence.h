@@ -1,6 +1,7 @@
 // Fluorescence: a surface that absorbs light at one wavelength λi and re-emits part of it,
-// diffusely, at a longer one λo (a bispectral surface). A fluorescent material is a diffuse
-// reflectance part (its BSDF, Material::bsdf) plus this re-radiation part (Material::fluorescence).
+// diffusely, at a longer one λo (a bispectral surface). A fluorescent material is a dye layer
+// (this re-radiation part, Material::fluorescence) over a surface of any BSDF type of the set
+// (the reflectance part, Material::bsdf).
 //
 // The re-radiation part: absorptance a(λ) = 1 − 10^(−d·ε(λ)) of a dye layer of optical density
 // d at the excitation band's peak (ε: the excitation spectrum, peak 1; Beer–Lambert, one pass),
@@ -13,9 +14,14 @@
 // and the re-emitted radiance, Lambertian,
 //     Lo(λo) = ∫ dλi ∫ dωi  D(λi, λo)/π · Li(λi, ωi) · |cos θi|.
 // Energy: the indicator (Stokes' rule: emission only at longer wavelengths) makes λi/λo ≤ 1,
-// so the energy re-emitted from light absorbed at λi is ∫D dλo ≤ a(λi)·Φ ≤ a(λi); the
-// reflectance part is base·(1 − a) (material "fluorescent", scenes/README.md), so reflected plus
-// re-emitted energy ≤ base ≤ 1 at every λi (tests/test_fluorescence.cpp: the white furnace).
+// so the energy re-emitted from light absorbed at λi is ∫D dλo ≤ a(λi)·Φ ≤ a(λi). The surface
+// under the layer receives what the layer lets through: the reflectance part is
+//     f(ωo, ωi, λ) = (1 − a(λ)) · f_surface(ωo, ωi, λ)
+// (one pass, as a(λ) is defined; material "fluorescent", scenes/README.md), whose albedo is
+// ≤ 1 − a(λ), so reflected plus re-emitted energy ≤ 1 − a + a·Φ ≤ 1 at every λi, whatever the
+// surface (tests/test_fluorescence.cpp: the white furnace). The factor 1 − a(λ) is applied by
+// the integrator wherever the reflectance part is evaluated or sampled (passed()); the
+// surface's own BSDF, its densities and so the MIS weights are those of its type.
 //
 // Transport range: λi is sampled over [kTransportMin, kTransportMax] = [300, 830] nm, wider than
 // the film's [360, 830] (kLambdaMin: the observer's CMFs are 0 below 360 nm, so a camera path
@@ -40,7 +46,9 @@
 // (Collapsing to the hero alone, as dispersion does, is also unbiased but brings one emitted
 // wavelength per re-emission instead of four: more colour noise.)
 // P depends on the four wavelengths only:
-//     P = r/(r + w) clamped to [0.05, 0.95],  r = mean reflectance over the lanes,
+//     P = r/(r + w) clamped to [0.05, 0.95],  r = mean over the lanes of (1 − a(λj)) times
+//     the surface's reflectance (a diffuse surface's kd; 1 for other types, whose albedo
+//     depends on the direction),
 //     w = mean over the lanes of A·Φ·e(λj) (the re-emission's expected weight without the
 //     Stokes cut); P = 1 where w = 0 (nothing re-emitted at these wavelengths), 0 where the
 //     reflectance part is black.
@@ -49,8 +57,8 @@
 // D/p, no branch) through a white Lambertian lobe; only the continuation chooses a branch. Each
 // part's light and BSDF strategies are combined by the power heuristic over directions: both
 // draw λi from the same p, so the wavelength's density cancels from the weights, and the
-// continuation's emission found is weighted with the density of the branch it took (the reflect
-// BSDF's, or cos θi/π), divided by that branch's probability.
+// continuation's emission found is weighted with the density of the branch it took (the
+// surface BSDF's, or cos θi/π), divided by that branch's probability.
 #pragma once
 #include <memory>
 #include <string>
@@ -74,6 +82,12 @@ public:
 
     /// Absorptance a(λ) (0 outside the transport range).
     float absorptance(float lambda_nm) const { return lookup(m_absorptance, lambda_nm); }
+    /// 1 − a(λ) at each lane's wavelength: the factor on the surface's BSDF under the layer.
+    SampledSpectrum passed(const SampledWavelengths& lambda) const {
+        SampledSpectrum t;
+        for (int j = 0; j < kLambdaCount; ++j) t[j] = 1.f - absorptance(lambda.lambda[j]);
+        return t;
+    }
     /// Emission e(λ) per nm, ∫ e = 1 (0 outside the transport range).
     float emission(float lambda_nm) const { return lookup(m_emission, lambda_nm); }
     float quantum_yield() const { return m_quantum_yield; }
@@ -116,17 +130,17 @@ private:
     Bsdf m_lobe;
 };
 
-/// Reflect or re-emit at a fluorescent vertex of a camera path (header comment): returns the
-/// BSDF the vertex scatters with (`reflect`, or the white lobe after weighting `beta` and
-/// setting every lane's wavelength to the sampled λi), or nullptr when the re-emission carries
-/// nothing (λi not below any lane's wavelength). u_branch, u_lambda in [0, 1).
 /// Re-emission drawn by one number: λi from p(λi), every lane's wavelength set to it and its
 /// throughput multiplied by D(λi, λj)/(p(λi)·p_branch). False when nothing is carried (λi not
 /// below any lane's wavelength).
 bool reemit(const Fluorescence& fl, SampledWavelengths& lambda, SampledSpectrum& beta, float u_lambda,
             float p_branch);
 
-const Bsdf* fluoresce_or_reflect(const Fluorescence& fl, const Bsdf& reflect, SampledWavelengths& lambda,
+/// Reflect or re-emit at a fluorescent vertex of a camera path (header comment): returns the
+/// BSDF the vertex scatters with (`surface`, after weighting `beta` by (1 − a)/P, or the white
+/// lobe after reemit()), or nullptr when the re-emission carries nothing. u_branch, u_lambda
+/// in [0, 1).
+const Bsdf* fluoresce_or_reflect(const Fluorescence& fl, const Bsdf& surface, SampledWavelengths& lambda,
                                  SampledSpectrum& beta, float u_branch, float u_lambda);
 
 }  // namespace spt

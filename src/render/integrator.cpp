@@ -136,14 +136,19 @@ template <bool kTextured, bool kCaustic, bool kFluorescent, class Sampler>
         // ---- Next-event estimation at vertices with a non-delta lobe: every point light,
         // one other light (render/nee_light_choice.h), and the specular chains ----
         const bool non_delta = mat.has_non_delta();
-        if (point_nee && non_delta) L += beta * sample_point_lights(scene, bsdf, *hit, wo, lambda, time, stats);
+        // What the surface's own lobes carry: under a fluorescent dye layer, only what the
+        // layer lets through (model/fluorescence.h).
+        SampledSpectrum surface_beta = beta;
+        if constexpr (kFluorescent)
+            if (mat.fluorescence) surface_beta *= mat.fluorescence->passed(lambda);
+        if (point_nee && non_delta) L += surface_beta * sample_point_lights(scene, bsdf, *hit, wo, lambda, time, stats);
         LightSampleContext ctx;
         if (area_nee && non_delta) {
             ctx = light_context(*hit, mat, wo);
             seek_dimension(rng, dims::bounce(depth, dims::kLightChoice));
             const float ul = rng.uniform(), ul1 = rng.uniform(), ul2 = rng.uniform();
-            L += beta * sample_area_light<kTextured>(scene, choices, bsdf, *hit, ctx, wo, lambda, time, ul, ul1, ul2,
-                                                     settings.light_sampling == LightSampling::mis, stats);
+            L += surface_beta * sample_area_light<kTextured>(scene, choices, bsdf, *hit, ctx, wo, lambda, time, ul, ul1,
+                                                             ul2, settings.light_sampling == LightSampling::mis, stats);
         }
         if constexpr (kCaustic)
             chains.sample(scene, settings, non_delta, depth, bsdf, *hit, wo, lambda, time, rng, beta, L, stats);

@@ -169,8 +169,44 @@ Bsdf lobes(const MaterialParams& p) {
     return b;
 }
 
-/// A diffuse base under a fluorescent dye layer (model/fluorescence.h): the layer absorbs
-/// a(λ) = 1 − 10^(−density·ε(λ)) and re-emits; the base reflects what passes, kd = base·(1 − a).
+/// The surface under a fluorescent dye layer: "surface" (a material of any other type) or
+/// "base" (a diffuse one's kd), not both; default diffuse 0.9.
+Bsdf fluorescent_surface(const MaterialParams& p, const std::string& w) {
+    const SpectrumParser& s = p.spectra;
+    const ParamValue* surface = p.def.find("surface");
+    const ParamValue* base = p.def.find("base");
+    if (surface && base)
+        s.fail(base->pos(), w + " has both \"surface\" and \"base\"; expected one of them (\"base\" is the "
+                                "reflectance of a diffuse surface)");
+    if (!surface) {
+        if (base && TextureParser::is_binding(*base))
+            s.fail(base->pos(), w + " base cannot be bound to a texture; expected a spectrum (or a \"surface\" whose "
+                                    "kd is a texture)");
+        return DiffuseBsdf{base ? s.spectrum(*base, w + " base", SpectrumUse::Reflectance)
+                                : s.spectrum_from(SpectrumSource::constant(0.9), p.def.pos(), w + " base",
+                                                  SpectrumUse::Reflectance)};
+    }
+    const std::string sw = w + " surface";
+    if (!surface->is_object())
+        s.fail(surface->pos(), sw + " is not an object; expected a material: {\"type\": ..., its parameters}");
+    std::string type = "lobes";
+    if (const ParamValue* t = surface->find("type")) type = s.string(*t, sw + " type");
+    const MaterialType* surface_type = type == "fluorescent" ? nullptr : find_material_type(type);
+    if (!surface_type) {
+        std::vector<std::string> types;
+        for (const MaterialType& t : material_types())
+            if (std::string(t.name) != "fluorescent") types.emplace_back(t.name);
+        s.fail(surface->find("type")->pos(), sw + " has type " + quote_text(type) + "." + suggestion(type, types) +
+                                                 " Expected one of: " + join(types));
+    }
+    Bsdf bsdf = surface_type->create({s, *surface, sw, p.number, p.reflectance, nullptr});
+    s.all_read(*surface, sw + " of type " + quote_text(type));
+    return bsdf;
+}
+
+/// A surface of any type under a fluorescent dye layer (model/fluorescence.h): the layer
+/// absorbs a(λ) = 1 − 10^(−density·ε(λ)) and re-emits; the surface, Material::bsdf, reflects
+/// what passes (the integrator applies the factor 1 − a(λ)).
 Bsdf fluorescent(const MaterialParams& p) {
     const SpectrumParser& s = p.spectra;
     const std::string w = p.what + " of type \"fluorescent\"";
@@ -208,23 +244,9 @@ Bsdf fluorescent(const MaterialParams& p) {
     if (const ParamValue* q = p.def.find("quantum_yield")) yield = s.number_in(*q, w + " quantum_yield", 0, 1);
     double density = 1;
     if (const ParamValue* d = p.def.find("density")) density = s.number_in(*d, w + " density", 0, 10, true);
-    SpectrumSource base = SpectrumSource::constant(0.9);
-    SourcePos base_pos = p.def.pos();
-    if (const ParamValue* b = p.def.find("base")) {
-        if (TextureParser::is_binding(*b)) s.fail(b->pos(), w + " base cannot be bound to a texture; expected a spectrum");
-        base = s.spectrum(*b, w + " base", SpectrumUse::Reflectance).source();
-        base_pos = b->pos();
-    }
-    auto fl = std::make_shared<const Fluorescence>(excitation, emission, density, yield, dye);
-    // 1 − a(λ) at the 1 nm bin centres (the absorptance the re-emission uses).
-    std::vector<std::pair<double, double>> pass;
-    for (double l = kTransportMin + 0.5; l < kTransportMax; l += 1.0)
-        pass.emplace_back(l, 1.0 - fl->absorptance(static_cast<float>(l)));
-    DiffuseBsdf d;
-    d.kd = s.spectrum_from(SpectrumSource::product({base, SpectrumSource::piecewise_linear(std::move(pass))}),
-                           base_pos, w + " reflectance", SpectrumUse::Reflectance);
-    if (p.fluorescence) *p.fluorescence = std::move(fl);
-    return d;
+    Bsdf surface = fluorescent_surface(p, w);
+    if (p.fluorescence) *p.fluorescence = std::make_shared<const Fluorescence>(excitation, emission, density, yield, dye);
+    return surface;
 }
 
 /// The microfacet types name their type in messages, and reject anisotropic keys with a

@@ -8,8 +8,9 @@
 //   dielectric  glass interface: "ior" spectrum; "roughness"; "film"
 //   plastic     diffuse base under a clear coat: "kd", "ior" (constant), "roughness"
 //   thin_sheet  soap bubble: "thickness_nm", "ior"
-//   fluorescent diffuse base under a fluorescent dye layer: "dye" (a name or {"excitation",
-//               "emission", "quantum_yield"}), "density", "quantum_yield", "base"
+//   fluorescent a fluorescent dye layer over a surface: "dye" (a name or {"excitation",
+//               "emission", "quantum_yield"}), "density", "quantum_yield"; "surface" (a
+//               material of another type) or "base" (a diffuse surface's kd)
 // and the checks of their parameters for materials made in code.
 #pragma once
 #include <functional>

@@ -499,6 +499,15 @@ private:
             make_material(name, "thindielectric", ior ? " " + eta_param("eta", *ior, what + " ior") : "");
         } else if (t == "lobes") {
             lobes(name, m, what);
+        } else if (t == "fluorescent") {
+            comment(what + ": its fluorescent dye layer (absorption and re-emission) is not exported: pbrt-v4 has no "
+                           "fluorescence; the surface under the layer is written");
+            if (const ParamValue* surface = m.peek("surface"); surface && surface->is_object())
+                material(name, *surface);
+            else if (const ParamValue* base = m.peek("base"))
+                make_material(name, "diffuse", " " + spectrum_param("reflectance", *base, what + " base"));
+            else
+                make_material(name, "diffuse", " \"spectrum reflectance\" [ 360 0.9 830 0.9 ]");
         } else {
             comment(what + ": material type " + pstr(t) + " is not exported; black diffuse");
             make_material(name, "diffuse", " \"spectrum reflectance\" [ 360 0 830 0 ]");

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "spectral/catalog_lookup.h"
 #include "spectral/cie.h"
 #include "spectral/dye_catalog.h"
 #include "spectral/glass_catalog.h"
@@ -113,8 +114,8 @@ SpectrumSource SpectrumParser::spectrum_source(const ParamValue& v, const std::s
                 fail(n.pos(), "unknown illuminant " + quote_text(name) + "." + suggestion(name, names) +
                                   " Expected one of: " + join(names));
             const SpectralTable& t = embedded_spectral_table(found->file);
-            if (found->at_560) return table_column(t, "value", opt("scale", 1) / 100.0);
-            return table_column(t, "value", opt("scale", 1) / cie_luminance(table_column(t, "value", 1.0)));
+            if (found->at_560) return column_spectrum(t, "value", opt("scale", 1) / 100.0);
+            return column_spectrum(t, "value", opt("scale", 1) / cie_luminance(column_spectrum(t, "value", 1.0)));
         }
         if (type == "uv_lamp") {
             const ParamValue& n = required(v, "name", w);
@@ -142,7 +143,7 @@ SpectrumSource SpectrumParser::spectrum_source(const ParamValue& v, const std::s
             if (std::find(patches.begin(), patches.end(), patch) == patches.end())
                 fail(n.pos(), "unknown ColorChecker patch " + quote_text(patch) + "." + suggestion(patch, patches) +
                                   " Expected one of: " + join(patches));
-            return table_column(t, patch, opt("scale", 1));
+            return column_spectrum(t, patch, opt("scale", 1));
         }
         if (type == "product") {
             const ParamValue& fs = required(v, "factors", w);
@@ -194,12 +195,6 @@ SpectrumSource SpectrumParser::rgb(const ParamValue& v, const std::string& what,
     return s;
 }
 
-SpectrumSource SpectrumParser::table_column(const SpectralTable& t, const std::string& column, double scale) {
-    const std::vector<double>& values = t.column(column);
-    std::vector<std::pair<double, double>> points;
-    for (std::size_t i = 0; i < values.size(); ++i) points.emplace_back(t.wavelengths_nm[i], values[i] * scale);
-    return SpectrumSource::piecewise_linear(std::move(points));
-}
 
 
 }  // namespace spt

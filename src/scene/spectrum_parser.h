@@ -4,7 +4,6 @@
 #include <string>
 
 #include "scene/param_checker.h"
-#include "spectral/spectral_table.h"
 #include "spectral/spectrum.h"
 
 namespace spt {
@@ -38,7 +37,6 @@ private:
     SpectralResolution m_resolution;
 
     SpectrumSource rgb(const ParamValue& v, const std::string& what, double scale) const;
-    static SpectrumSource table_column(const SpectralTable& t, const std::string& column, double scale);
 };
 
 }  // namespace spt

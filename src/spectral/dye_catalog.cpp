@@ -1,26 +1,10 @@
 #include "spectral/dye_catalog.h"
 
-#include <cctype>
-
-#include "spectral/spectral_table.h"
+#include "spectral/catalog_lookup.h"
 
 namespace spt {
 
 namespace {
-
-SpectrumSource column_source(const SpectralTable& t, const std::string& column) {
-    const std::vector<double>& values = t.column(column);
-    std::vector<std::pair<double, double>> points;
-    for (std::size_t i = 0; i < values.size(); ++i) points.emplace_back(t.wavelengths_nm[i], values[i]);
-    return SpectrumSource::piecewise_linear(std::move(points));
-}
-
-bool same_ignoring_case(std::string_view a, std::string_view b) {
-    if (a.size() != b.size()) return false;
-    for (std::size_t i = 0; i < a.size(); ++i)
-        if (std::tolower(static_cast<unsigned char>(a[i])) != std::tolower(static_cast<unsigned char>(b[i]))) return false;
-    return true;
-}
 
 /// Quantum yields of the dyes, as the CSV's header states them with their sources.
 double quantum_yield(const std::string& name) {
@@ -38,7 +22,7 @@ std::optional<DyeInfo> find_dye(std::string_view name) {
     for (const std::string& n : dye_names()) {
         if (!same_ignoring_case(n, name)) continue;
         const SpectralTable& t = embedded_spectral_table("fluorescent_dyes.csv");
-        return DyeInfo{n, column_source(t, n + "_excitation"), column_source(t, n + "_emission"), quantum_yield(n)};
+        return DyeInfo{n, column_spectrum(t, n + "_excitation"), column_spectrum(t, n + "_emission"), quantum_yield(n)};
     }
     return std::nullopt;
 }
@@ -47,7 +31,7 @@ std::vector<std::string> uv_lamp_names() { return {"led365", "blacklight"}; }
 
 std::optional<SpectrumSource> find_uv_lamp(std::string_view name) {
     for (const std::string& n : uv_lamp_names())
-        if (same_ignoring_case(n, name)) return column_source(embedded_spectral_table("uv_lamps.csv"), n);
+        if (same_ignoring_case(n, name)) return column_spectrum(embedded_spectral_table("uv_lamps.csv"), n);
     return std::nullopt;
 }
 

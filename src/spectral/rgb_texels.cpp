@@ -7,7 +7,7 @@
 
 #include "spectral/cie.h"
 #include "spectral/rgb_to_spectrum.h"
-#include "spectral/spectral_table.h"
+#include "spectral/catalog_lookup.h"
 #include "spectral/spectrum.h"
 
 namespace spt {
@@ -27,9 +27,7 @@ struct UnitD65 {
 private:
     UnitD65() {
         const SpectralTable& t = embedded_spectral_table("cie_d65.csv");
-        std::vector<std::pair<double, double>> points;
-        for (std::size_t i = 0; i < t.wavelengths_nm.size(); ++i) points.emplace_back(t.wavelengths_nm[i], t.column("value")[i]);
-        d65 = SpectrumSource::piecewise_linear(std::move(points));
+        d65 = column_spectrum(t, "value");
         inv_y = 1.0 / cie_luminance(d65);
     }
 };

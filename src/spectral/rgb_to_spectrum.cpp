@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "spectral/color_space.h"
-#include "spectral/spectral_table.h"
+#include "spectral/catalog_lookup.h"
 
 namespace spt {
 
@@ -32,10 +32,7 @@ private:
     D65Weights() {
         const SpectralTable& cmf = embedded_spectral_table("cie_1931_2deg.csv");
         const SpectralTable& d65 = embedded_spectral_table("cie_d65.csv");
-        std::vector<std::pair<double, double>> points;
-        for (std::size_t i = 0; i < d65.wavelengths_nm.size(); ++i)
-            points.emplace_back(d65.wavelengths_nm[i], d65.column("value")[i]);
-        const SpectrumSource illuminant = SpectrumSource::piecewise_linear(std::move(points));
+        const SpectrumSource illuminant = column_spectrum(d65, "value");
         const auto &xs = cmf.column("x_bar"), &ys = cmf.column("y_bar"), &zs = cmf.column("z_bar");
         double norm = 0;
         for (std::size_t i = 0; i < cmf.wavelengths_nm.size(); ++i) {
