@@ -260,41 +260,108 @@ TEST(FluorescenceScene, BaseIsADiffuseSurface) {
 
 /// sample_excitation draws λi with the density excitation_pdf says: a histogram of 10 nm
 /// bins against the pdf's integral over each, and the pdf integrates to 1.
+void expect_excitation_follows_pdf(const Fluorescence& fl, const std::string& name) {
+    double total = 0;
+    for (double l = kTransportMin + 0.05; l < kTransportMax; l += 0.1) total += fl.excitation_pdf(float(l)) * 0.1;
+    EXPECT_NEAR(total, 1.0, 1e-3) << name;
+    const int bins = 53, n = 400000;
+    std::vector<double> counts(bins, 0.0);
+    Rng rng(11, 0, 0);
+    for (int i = 0; i < n; ++i) {
+        float pdf = 0.f;
+        const float l = fl.sample_excitation(rng.uniform(), pdf);
+        ASSERT_GE(l, kTransportMin);
+        ASSERT_LT(l, kTransportMax);
+        ASSERT_NEAR(pdf, fl.excitation_pdf(l), 1e-6f * std::max(1.f, pdf));
+        counts[static_cast<int>((l - kTransportMin) / 10.f)] += 1;
+    }
+    double chi2 = 0;
+    int dof = 0;
+    for (int b = 0; b < bins; ++b) {
+        double p = 0;
+        for (double l = kTransportMin + 10 * b + 0.05; l < kTransportMin + 10 * (b + 1); l += 0.1)
+            p += fl.excitation_pdf(float(l)) * 0.1;
+        const double expected = p * n;
+        if (expected < 5) {
+            EXPECT_LT(counts[b], 5 + 5 * std::sqrt(5.0)) << name << " bin " << b;
+            continue;
+        }
+        chi2 += (counts[b] - expected) * (counts[b] - expected) / expected;
+        ++dof;
+    }
+    // χ² with ~50 degrees of freedom: its mean is dof, its 1e-6 quantile ~ dof + 6·√(2·dof).
+    EXPECT_LT(chi2, dof + 6 * std::sqrt(2.0 * dof)) << name << ": " << dof << " bins";
+}
+
 TEST(FluorescenceSampling, ExcitationSamplesFollowTheirPdf) {
     for (const std::string& name : dye_names()) {
         const DyeInfo d = *find_dye(name);
         const Fluorescence fl(d.excitation, d.emission, 1.0, d.quantum_yield, name);
-        double total = 0;
-        for (double l = kTransportMin + 0.05; l < kTransportMax; l += 0.1) total += fl.excitation_pdf(float(l)) * 0.1;
-        EXPECT_NEAR(total, 1.0, 1e-3) << name;
-        const int bins = 53, n = 400000;
-        std::vector<double> counts(bins, 0.0);
-        Rng rng(11, 0, 0);
-        for (int i = 0; i < n; ++i) {
-            float pdf = 0.f;
-            const float l = fl.sample_excitation(rng.uniform(), pdf);
-            ASSERT_GE(l, kTransportMin);
-            ASSERT_LT(l, kTransportMax);
-            ASSERT_NEAR(pdf, fl.excitation_pdf(l), 1e-6f * std::max(1.f, pdf));
-            counts[static_cast<int>((l - kTransportMin) / 10.f)] += 1;
-        }
-        double chi2 = 0;
-        int dof = 0;
-        for (int b = 0; b < bins; ++b) {
-            double p = 0;
-            for (double l = kTransportMin + 10 * b + 0.05; l < kTransportMin + 10 * (b + 1); l += 0.1)
-                p += fl.excitation_pdf(float(l)) * 0.1;
-            const double expected = p * n;
-            if (expected < 5) {
-                EXPECT_LT(counts[b], 5 + 5 * std::sqrt(5.0)) << name << " bin " << b;
-                continue;
-            }
-            chi2 += (counts[b] - expected) * (counts[b] - expected) / expected;
-            ++dof;
-        }
-        // χ² with ~50 degrees of freedom: its mean is dof, its 1e-6 quantile ~ dof + 6·√(2·dof).
-        EXPECT_LT(chi2, dof + 6 * std::sqrt(2.0 * dof)) << name << ": " << dof << " bins";
+        expect_excitation_follows_pdf(fl, name);
+        for (float l = kTransportMin + 0.5f; l < kTransportMax; l += 1.f)
+            ASSERT_NEAR(fl.excitation_pdf(l), fl.absorptance(l) / fl.absorbed_integral(), 1e-6f) << name;
     }
+}
+
+/// Under a 365 nm LED, rhodamine 6G's weak near-UV band is drawn far more often than by its
+/// absorptance alone, its green band still at least half as often: p = ½·a/A + ½·a·S/B.
+TEST(FluorescenceSampling, ExcitationFollowsTheLightsSpectrumToo) {
+    const DyeInfo d = *find_dye("rhodamine6g");
+    Fluorescence fl(d.excitation, d.emission, 1.0, d.quantum_yield, "rhodamine6g");
+    const SpectrumSource led = *find_uv_lamp("led365");
+    std::vector<double> illumination(kTransportBins);
+    for (int k = 0; k < kTransportBins; ++k) illumination[k] = led.eval(kTransportMin + k + 0.5);
+    const Fluorescence by_absorption = fl;
+    fl.sample_excitation_by(illumination);
+    expect_excitation_follows_pdf(fl, "rhodamine6g under led365");
+    double uv = 0, uv_before = 0;
+    for (float l = 340.5f; l < 390.f; l += 1.f) uv += fl.excitation_pdf(l), uv_before += by_absorption.excitation_pdf(l);
+    EXPECT_GT(uv, 0.5) << "the lit band holds half the samples, and its share of the other half";
+    EXPECT_LT(uv_before, 0.2);
+    for (float l = kTransportMin + 0.5f; l < kTransportMax; l += 1.f)
+        ASSERT_GE(fl.excitation_pdf(l), 0.5f * by_absorption.excitation_pdf(l) * (1 - 1e-5f)) << l;
+    // No light in the dye's bands: sampling by absorption alone.
+    Fluorescence dark = by_absorption;
+    dark.sample_excitation_by(std::vector<double>(kTransportBins, 0.0));
+    EXPECT_EQ(dark.excitation_pdf(530.5f), by_absorption.excitation_pdf(530.5f));
+}
+
+/// In a scene with fluorescent materials a UV lamp is chosen for next-event estimation by
+/// what it emits over the transport range, not by its (almost nil) visible power.
+TEST(FluorescenceScene, UvLampsAreChosenByTheirUltravioletPower) {
+    auto scene_with = [](const std::string& material) {
+        const std::string text = R"({"camera": {"position": [0, 1, 3], "look_at": [0, 0, 0]},
+          "materials": {"m": )" + material + R"(},
+          "shapes": [{"type": "plane", "normal": [0, 1, 0], "point": [0, 0, 0], "material": "m"},
+                     {"type": "quad", "origin": [-1, 2, -1], "edge1": [1, 0, 0], "edge2": [0, 0, 1],
+                      "emission": {"type": "illuminant", "name": "D65"}},
+                     {"type": "quad", "origin": [0.5, 2, -1], "edge1": [1, 0, 0], "edge2": [0, 0, 1],
+                      "emission": {"type": "uv_lamp", "name": "led365"}}]})";
+        return load_scene_text(text, "test.json", "test", SpectralResolution{}, {});
+    };
+    // The lamp's share of the power over [lo, hi] (10 nm steps), and its choice probability.
+    auto uv_share = [](const Scene& scene, float lo, float hi, float& probability) {
+        double uv = 0, all = 0;
+        probability = -1.f;
+        for (std::size_t i = 0; i < scene.lights.size(); ++i) {
+            const Light& light = scene.lights[i];
+            double p = 0;
+            for (float l = lo; l <= hi; l += 10.f) p += light_spectral_power(light, l);
+            all += p;
+            if (light_spectral_power(light, 365.f) > 10 * light_spectral_power(light, 560.f)) {
+                uv = p;
+                probability = scene.area_light_choice.probability(static_cast<int>(i));
+            }
+        }
+        return uv / all;
+    };
+    float plain = 0, fluorescent = 0;
+    const double plain_share = uv_share(scene_with(R"({"kd": 0.5})"), 380, 780, plain);
+    const double fluorescent_share =
+        uv_share(scene_with(R"({"type": "fluorescent", "dye": "quinine"})"), 300, 830, fluorescent);
+    EXPECT_NEAR(plain, plain_share, 1e-4);
+    EXPECT_NEAR(fluorescent, fluorescent_share, 1e-4);
+    EXPECT_GT(fluorescent, 5 * plain) << plain;
 }
 
 /// Stokes' rule and the energy factor of the Donaldson matrix.

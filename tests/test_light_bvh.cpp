@@ -198,7 +198,7 @@ TEST(LightBvh, NoLightThatCanContributeGetsImportanceZero) {
     PointLight point;
     point.position = {0, 2, 0};
     point.intensity = test::constant_spectrum(1.0);
-    const LightBounds pb = *light_bounds(Light{point});
+    const LightBounds pb = *light_bounds(Light{point}, light_power(Light{point}));
     EXPECT_GT(light_importance(pb, {5, 0, 0}, {0, 1, 0}), 0.f);
     EXPECT_GT(light_importance(pb, {0, 2.0001f, 0}, {0, -1, 0}), 0.f);
     // A spot light: inside its full cone (also in the fade beyond the falloff angle), not outside.
@@ -208,7 +208,7 @@ TEST(LightBvh, NoLightThatCanContributeGetsImportanceZero) {
     spot.cos_cone = std::cos(0.5f);
     spot.cos_falloff = std::cos(0.3f);
     spot.intensity = test::constant_spectrum(1.0);
-    const LightBounds sb = *light_bounds(Light{spot});
+    const LightBounds sb = *light_bounds(Light{spot}, light_power(Light{spot}));
     for (float angle : {0.f, 0.29f, 0.31f, 0.45f, 0.499f}) {
         const Vec3 p{2.f * std::tan(angle), 0.f, 0.f};
         EXPECT_GT(light_importance(sb, p, {0, 1, 0}), 0.f) << "angle " << angle;

@@ -504,6 +504,35 @@ TEST(LightContract, PowerIsTheIntegralOfWhatIsEmitted) {
     }
 }
 
+TEST(LightContract, PowerIsTheMeanOfTheSpectralPowerOverTheVisible) {
+    for (const Row& row : rows()) {
+        const Scene scene = row.make();
+        const Light& light = scene.lights[0];
+        double sum = 0;
+        for (int i = 0; i <= 40; ++i) {
+            const float p = light_spectral_power(light, 380.f + 10.f * i);
+            EXPECT_TRUE(std::isfinite(p) && p >= 0.f) << row.name;
+            sum += p;
+        }
+        EXPECT_NEAR(sum / 41, light_power(light), 1e-5 * light_power(light)) << row.name;
+        // Defined beyond the observer's range too (fluorescence excites from 300 nm).
+        EXPECT_TRUE(std::isfinite(light_spectral_power(light, 300.f))) << row.name;
+    }
+}
+
+/// A light's spectral power follows its spectrum: a point light of a Gaussian intensity.
+TEST(LightContract, SpectralPowerFollowsTheSpectrum) {
+    const Scene scene = load_scene_text(
+        R"({"camera": {"position": [0, 0, 3], "look_at": [0, 0, 0]}, "materials": {"m": {"kd": 0.5}},
+            "shapes": [{"type": "sphere", "center": [0, 0, 0], "radius": 1, "material": "m"}],
+            "lights": [{"type": "point", "position": [0, 2, 0],
+                        "intensity": {"type": "gaussian", "center_nm": 365, "width_nm": 10}}]})",
+        "test.json", "test", SpectralResolution{SpectralResolution::kExact}, {});
+    const Light& light = scene.lights[0];
+    EXPECT_NEAR(light_spectral_power(light, 365.f), 4 * kPiD, 1e-5);
+    EXPECT_LT(light_spectral_power(light, 420.f), 1e-6 * light_spectral_power(light, 365.f));
+}
+
 TEST(LightContract, SampleLeAgreesWithPdfLe) {
     // Each origin's direction density is pdf_le_dir of its direction, and its point density
     // pdf_le_pos (area lights) or 1 (delta); the plane starts no subpath.

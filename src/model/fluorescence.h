@@ -33,10 +33,14 @@
 // With hero wavelengths (Wilkie et al. 2014), camera paths: at a fluorescent vertex the path
 // reflects with probability P (weight 1/P) or re-emits with 1 − P. Re-emission draws one
 // excitation wavelength λi from
-//     p(λi) = a(λi)/A,   A = ∫ a dλ   over the transport range,
-// and a direction from cos θi/π, and every lane j (emitted wavelength λj) multiplies its
+//     p(λi) = ½·a(λi)/A + ½·a(λi)·S(λi)/B,   A = ∫ a dλ,  B = ∫ a·S dλ  over the transport range,
+// S the summed spectral power of the scene's lights (Scene::finalize; p = a/A without
+// lights or where B = 0): what the dye absorbs, half of it weighted by what the lights emit,
+// so a dye's weak UV band under a UV lamp is not left to rare samples, while the defensive
+// half keeps every absorbing wavelength at p ≥ a/(2A) (the weights below stay ≤ 2·A·Φ).
+// A direction is drawn from cos θi/π, and every lane j (emitted wavelength λj) multiplies its
 // throughput by
-//     D(λi, λj)/π·cos θi / (p(λi)·cos θi/π·(1 − P)) = A·Φ·e(λj)·(λi/λj)·[λi < λj] / (1 − P);
+//     D(λi, λj)/π·cos θi / (p(λi)·cos θi/π·(1 − P)) = D(λi, λj) / (p(λi)·(1 − P));
 // then all four lanes continue at the one wavelength λi (the integrator restores the film's
 // wavelengths at the end of the path). Unbiased for every lane: p(λi) and the direction's
 // density do not depend on λj, so (λi, ωi) is a valid sample of each lane's integral, and
@@ -49,8 +53,8 @@
 //     P = r/(r + w) clamped to [0.05, 0.95],  r = mean over the lanes of (1 − a(λj)) times
 //     the surface's reflectance (a diffuse surface's kd; 1 for other types, whose albedo
 //     depends on the direction),
-//     w = mean over the lanes of A·Φ·e(λj) (the re-emission's expected weight without the
-//     Stokes cut); P = 1 where w = 0 (nothing re-emitted at these wavelengths), 0 where the
+//     w = mean over the lanes of A·Φ·e(λj) (the re-emission's expected weight under a flat
+//     illuminant, without the Stokes cut); P = 1 where w = 0 (nothing re-emitted at these wavelengths), 0 where the
 //     reflectance part is black.
 // Next-event estimation at a fluorescent vertex estimates both parts, always: the reflectance
 // part with the path's wavelengths, the re-emission with its own λi (drawn from p, weights
@@ -71,6 +75,8 @@ namespace spt {
 
 /// Range over which excitation wavelengths are sampled (nm); see the header comment.
 inline constexpr float kTransportMin = 300.f, kTransportMax = 830.f;
+/// The 1 nm bins the dye's spectra are tabulated in over that range.
+inline constexpr int kTransportBins = static_cast<int>(kTransportMax - kTransportMin);
 
 class Fluorescence {
 public:
@@ -103,12 +109,13 @@ public:
     /// w(λo) = A·Φ·e(λo): the expected weight of re-emission at λo, for the branch choice.
     float reemission_weight(float lambda_o) const { return m_absorbed_integral * m_quantum_yield * emission(lambda_o); }
 
-    /// λi drawn from p(λi) = a(λi)/A for u in [0, 1); its density in `pdf`.
+    /// Excitation sampling by the lights' summed spectral power S (header comment), one value
+    /// per 1 nm bin from kTransportMin (a light_spectral_power at each bin's centre).
+    void sample_excitation_by(const std::vector<double>& illumination);
+    /// λi drawn from p(λi) for u in [0, 1); its density in `pdf`.
     float sample_excitation(float u, float& pdf) const;
-    /// p(λi) = a(λi)/A.
-    float excitation_pdf(float lambda_nm) const {
-        return m_absorbed_integral > 0.f ? absorptance(lambda_nm) / m_absorbed_integral : 0.f;
-    }
+    /// p(λi) (header comment): a(λi)/A until sample_excitation_by.
+    float excitation_pdf(float lambda_nm) const { return lookup(m_pdf, lambda_nm); }
 
     /// The lobe a re-emitting vertex scatters with: white Lambertian (the spectral weight is in
     /// the path's throughput).
@@ -123,7 +130,8 @@ private:
 
     std::vector<float> m_absorptance;  ///< per 1 nm bin from kTransportMin
     std::vector<float> m_emission;     ///< per 1 nm bin, sums to 1
-    std::vector<float> m_cdf;          ///< of m_absorptance, m_cdf[0] = 0, last = 1
+    std::vector<float> m_pdf;          ///< p(λi) per 1 nm bin, sums to 1
+    std::vector<float> m_cdf;          ///< of m_pdf, m_cdf[0] = 0, last = 1
     float m_absorbed_integral = 0.f;
     float m_quantum_yield = 0.f;
     std::string m_dye;

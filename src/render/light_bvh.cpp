@@ -64,7 +64,7 @@ void LightBvh::build(const std::vector<Light>& lights, const std::vector<float>&
         if (mesh && mesh->triangles.size() > 1 && i < first_triangle.size() && first_triangle[i] >= 0) {
             m_light_entry[i] = static_cast<int>(m_entries.size());
             m_light_first_triangle[i] = first_triangle[i];
-            const float phi = light_power(light);
+            const float phi = weights[i];
             for (std::size_t k = 0; k < mesh->triangles.size(); ++k) {
                 const float area = TriangleMeshLight::triangle_area(mesh->triangles[k]);
                 const bool emits = area > 0.f;
@@ -73,7 +73,7 @@ void LightBvh::build(const std::vector<Light>& lights, const std::vector<float>&
             }
             continue;
         }
-        const std::optional<LightBounds> b = light_bounds(light);
+        const std::optional<LightBounds> b = light_bounds(light, weights[i]);
         if (!b) continue;
         m_light_entry[i] = static_cast<int>(m_entries.size());
         m_entries.push_back({index, -1, 1.f, 0});

@@ -49,8 +49,8 @@ public:
         std::uint64_t path = 0;  ///< bit d: the child taken at depth d (1: the second)
     };
 
-    /// Builds over `lights` (Scene::lights): the finite lights whose `weights` (their power)
-    /// are > 0 go into the tree, each emitting mesh triangle by triangle, the infinite ones
+    /// Builds over `lights` (Scene::lights): the finite lights whose `weights` (their power,
+    /// the bounds' φ) are > 0 go into the tree, each emitting mesh triangle by triangle, the infinite ones
     /// (light_type infinite, and PlaneLight when with_planes) into the infinite share.
     /// `first_triangle[i]`: the scene index of mesh light i's first triangle when its
     /// triangles are consecutive there (a hit's triangle is then known), else −1 (the mesh

@@ -293,6 +293,7 @@ void Scene::finalize() {
     validate_camera();
     build_acceleration();
     finalize_lights();
+    prepare_fluorescence();
     analyse_effects();
     prepare_strategies();
 }
@@ -502,6 +503,34 @@ void Scene::finalize_media() {
     }
 }
 
+namespace {
+
+/// The mean of a light's spectral power over [lo, hi] at 10 nm steps.
+float mean_spectral_power(const Light& light, float lo, float hi) {
+    double sum = 0;
+    int n = 0;
+    for (float l = lo; l <= hi; l += 10.f, ++n) sum += light_spectral_power(light, l);
+    return static_cast<float>(sum / n);
+}
+
+}  // namespace
+
+void Scene::prepare_fluorescence() {
+    std::vector<double> illumination;
+    for (Material& m : materials) {
+        if (!m.fluorescence) continue;
+        if (illumination.empty()) {
+            illumination.assign(kTransportBins, 0.0);
+            for (const Light& light : lights)
+                for (int k = 0; k < kTransportBins; ++k)
+                    illumination[k] += light_spectral_power(light, kTransportMin + static_cast<float>(k) + 0.5f);
+        }
+        auto f = std::make_shared<Fluorescence>(*m.fluorescence);
+        f->sample_excitation_by(illumination);
+        m.fluorescence = std::move(f);
+    }
+}
+
 void Scene::finalize_lights() {
     // The bounding sphere of what light subpaths from the environment should reach, and of
     // the disk an infinite plane's selection power is measured over.
@@ -585,6 +614,11 @@ void Scene::finalize_lights() {
     point_light_indices.clear();
     spot_light_indices.clear();
     infinite_light_indices.clear();
+    // Lights are chosen by their power over the observer's range, or in a scene with
+    // fluorescent materials over the transport range: a UV lamp, dark to the observer, is
+    // then chosen by what it emits (model/fluorescence.h).
+    const bool fluorescent =
+        std::any_of(materials.begin(), materials.end(), [](const Material& m) { return m.fluorescence != nullptr; });
     std::vector<float> area_power(lights.size(), 0.f);
     for (std::size_t i = 0; i < lights.size(); ++i) {
         Light& light = lights[i];
@@ -625,7 +659,7 @@ void Scene::finalize_lights() {
                         "a quad light must be a finite parallelogram of non-zero area");
             }
         }
-        area_power[i] = light_power(light);
+        area_power[i] = fluorescent ? mean_spectral_power(light, kTransportMin, kTransportMax) : light_power(light);
     }
     area_light_choice_with_planes.build(area_power);
     light_bvh = LightBvh{};

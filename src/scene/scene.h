@@ -351,6 +351,9 @@ private:
     /// Copies the emitting shapes' geometry into their lights, checks the lights, finds the
     /// bounding sphere and builds the light choices (the light sampler).
     void finalize_lights();
+    /// Fluorescent materials draw excitation wavelengths by the lights' summed spectral power
+    /// too (model/fluorescence.h).
+    void prepare_fluorescence();
     /// Sets effects from what the scene holds; checks the media and the emission textures.
     void analyse_effects();
     /// Checks the media (coefficients, g, boxes) and that every shape has its interface.

@@ -21,10 +21,15 @@ namespace spt {
     return two_sided || dot(n, w) > 0.f;
 }
 
-/// Emitted power of an area light of uniform radiance: ∫∫ L |cos| dA dω = π·A·Le per side.
+/// Emitted power of an area light of uniform radiance: ∫∫ L |cos| dA dω = π·A·Le per side;
+/// with `lambda_nm`, per nm at that wavelength (spectral_power of the contract).
 template <typename SpectrumT>
 float area_light_power(bool two_sided, float area, const SpectrumT& Le) {
     return (two_sided ? 2.f : 1.f) * kPi * area * mean_over_visible(Le);
+}
+template <typename SpectrumT>
+float area_light_power(bool two_sided, float area, const SpectrumT& Le, float lambda_nm) {
+    return (two_sided ? 2.f : 1.f) * kPi * area * Le.eval(lambda_nm);
 }
 
 /// Fills o.w, o.Le and o.pdf_dir for the point o.p of normal o.n (a side chosen by u_side

@@ -28,6 +28,7 @@ struct EnvironmentLight {
     static constexpr LightType type = LightType::infinite;
 
     float power() const { return 4.f * kPi * (kPi * radius * radius) * mean_over_visible(Le); }
+    float spectral_power(float lambda_nm) const { return 4.f * kPi * (kPi * radius * radius) * Le.eval(lambda_nm); }
 
     /// Radiance arriving along a ray that escaped the scene (the same from every direction).
     SampledSpectrum arriving(const Vec3& /*d*/, const SampledWavelengths& lambda) const { return Le.sample(lambda); }

@@ -120,6 +120,8 @@ struct EnvironmentMapLight {
     }
 
     float power() const { return static_cast<float>(kPi * radius * radius * scale * map->radiant_mean); }
+    /// Flat: the radiance's spectrum varies over the map (light.h).
+    float spectral_power(float /*lambda_nm*/) const { return power(); }
 
     /// Radiance arriving along an escaped ray of direction d (unit): the nearest texel's.
     SampledSpectrum arriving(const Vec3& d, const SampledWavelengths& lambda) const {

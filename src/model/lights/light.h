@@ -12,6 +12,11 @@
 ///                                 the sky and the sun's disc).
 ///  power()                        mean emitted power over 380–780 nm (up to a common
 ///                                 scale): lights are chosen in proportion to it.
+///  spectral_power(λ)              the power per nm at λ on power()'s scale (power() is its
+///                                 mean over 380–780 nm at 10 nm steps), for any λ: what
+///                                 fluorescent materials sample excitation by. Lights whose
+///                                 spectrum varies over their extent (maps, the sky, the
+///                                 sun's disc, portals) give power() at every λ: flat.
 ///  sample_li(ctx, λ, u1, u2, ls)  a direction towards the light from the reference point
 ///                                 ctx, written into `ls`, a default LightSample (in place:
 ///                                 an optional's copy of the sample, read back as wide loads
@@ -146,6 +151,10 @@ inline bool is_delta_light(const Light& light) {
 
 inline float light_power(const Light& light) {
     return std::visit([](const auto& l) { return l.power(); }, light);
+}
+
+inline float light_spectral_power(const Light& light, float lambda_nm) {
+    return std::visit([&](const auto& l) { return l.spectral_power(lambda_nm); }, light);
 }
 
 /// sample_li of the contract, in place: `ls` is a default LightSample.

@@ -167,10 +167,10 @@ inline LightBounds triangle_light_bounds(const TriangleMeshLight& mesh, std::siz
                              mesh.two_sided);
 }
 
-/// Bounds of a finite light as one whole; nullopt for the infinite ones (the environment, the
-/// infinite plane), which no box holds.
-inline std::optional<LightBounds> light_bounds(const Light& light) {
-    const float phi = light_power(light);
+/// Bounds of a finite light of power `phi` (its light_power, or another measure of it) as
+/// one whole; nullopt for the infinite ones (the environment, the infinite plane), which no
+/// box holds.
+inline std::optional<LightBounds> light_bounds(const Light& light, float phi) {
     if (const auto* q = std::get_if<QuadLight>(&light)) {
         Aabb box;
         for (const Vec3& c : {q->o, q->o + q->e1, q->o + q->e2, q->o + q->e1 + q->e2}) box.expand(c);

@@ -174,6 +174,7 @@ struct PlaneLight {
     }
 
     float power() const { return kPi * kPi * scene_radius * scene_radius * mean_over_visible(Le); }
+    float spectral_power(float lambda_nm) const { return kPi * kPi * scene_radius * scene_radius * Le.eval(lambda_nm); }
 
     /// Radiance leaving the plane at p (normal n) along w: the same from both sides.
     SampledSpectrum L(const Vec3& /*p*/, const Vec3& /*n*/, const Vec3& /*w*/, const SampledWavelengths& lambda) const {

@@ -21,6 +21,7 @@ struct PointLight {
     Vec3 position_at(float time) const { return motion.is_static() ? position : motion.at(time).point(position); }
 
     float power() const { return 4.f * kPi * mean_over_visible(intensity); }
+    float spectral_power(float lambda_nm) const { return 4.f * kPi * intensity.eval(lambda_nm); }
 
     /// Radiant intensity along w: I_max(λ)·falloff(w), the same in every direction.
     SampledSpectrum I_max(const SampledWavelengths& lambda) const { return intensity.sample(lambda); }

@@ -71,6 +71,8 @@ struct PortalLight {
     const Portal& portal() const { return sampling->portal; }
 
     float power() const { return sampling->power; }
+    /// Flat: the map's spectrum varies over the directions through the portal (light.h).
+    float spectral_power(float /*lambda_nm*/) const { return power(); }
 
     SampledSpectrum arriving(const Vec3& d, const SampledWavelengths& lambda) const {
         return environment.arriving(d, lambda);

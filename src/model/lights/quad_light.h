@@ -96,6 +96,7 @@ struct QuadLight {
         return emits_towards(two_sided, n_hit, w) ? Le.sample(lambda) : SampledSpectrum(0.f);
     }
     float power() const { return area_light_power(two_sided, total_area, Le); }
+    float spectral_power(float lambda_nm) const { return area_light_power(two_sided, total_area, Le, lambda_nm); }
 
     /// The spherical rectangle seen from a reference point, in the frame (ux, uy, ±uz) centred
     /// there: the rectangle spans [x0, x1] × [y0, y1] in the plane z = z0 < 0 (the frame's z

@@ -31,6 +31,7 @@ struct QuadricLight {
         return std::visit([](const auto& s) { return s.area(); }, shape);
     }
     float power() const { return area_light_power(two_sided, area(), Le); }
+    float spectral_power(float lambda_nm) const { return area_light_power(two_sided, area(), Le, lambda_nm); }
 
     SurfaceSample sample_point(float u1, float u2) const {
         return std::visit([&](const auto& s) { return s.sample_area(u1, u2); }, shape);

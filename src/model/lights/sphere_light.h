@@ -32,6 +32,7 @@ struct SphereLight {
 
     float area() const { return 4.f * kPi * sphere.radius * sphere.radius; }
     float power() const { return area_light_power(two_sided, area(), Le); }
+    float spectral_power(float lambda_nm) const { return area_light_power(two_sided, area(), Le, lambda_nm); }
 
     /// Whether the reference point is inside (or on) the sphere, decided on the point pushed
     /// towards the centre past its error bound (pbrt-v4's Sphere::Sample): a point of the

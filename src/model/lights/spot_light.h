@@ -38,9 +38,9 @@ struct SpotLight {
 
     /// Mean over the sphere ×4π of the angular factor, in closed form as pbrt: the full cone
     /// up to the falloff angle and half of the fading ring.
-    float power() const {
-        return 2.f * kPi * (1.f - 0.5f * (cos_falloff + cos_cone)) * mean_over_visible(intensity);
-    }
+    float power() const { return solid_angle_factor() * mean_over_visible(intensity); }
+    float spectral_power(float lambda_nm) const { return solid_angle_factor() * intensity.eval(lambda_nm); }
+    float solid_angle_factor() const { return 2.f * kPi * (1.f - 0.5f * (cos_falloff + cos_cone)); }
 
     /// A delta light, as the point light: pdf 1, L = I·falloff/r².
     bool sample_li(const LightSampleContext& ctx, const SampledWavelengths& lambda, float /*u1*/, float /*u2*/,

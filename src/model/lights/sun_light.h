@@ -54,6 +54,8 @@ struct SunLight {
     static constexpr LightType type = LightType::infinite;
 
     float power() const { return static_cast<float>(kPi * radius * radius * scale * model->radiant_mean); }
+    /// Flat: the radiance's spectrum varies over the disc (light.h).
+    float spectral_power(float /*lambda_nm*/) const { return power(); }
 
     /// Radiance arriving along an escaped ray of direction d (unit): the disc's, 0 off it.
     SampledSpectrum arriving(const Vec3& d, const SampledWavelengths& lambda) const {

@@ -44,6 +44,7 @@ struct TriangleMeshLight {
     }
 
     float power() const { return area_light_power(two_sided, total_area, Le); }
+    float spectral_power(float lambda_nm) const { return area_light_power(two_sided, total_area, Le, lambda_nm); }
 
     /// A point uniform over the whole area (u1 picks the triangle and is reused inside it);
     /// `triangle` is the index of the one it is on.
