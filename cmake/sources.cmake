@@ -82,6 +82,7 @@ set(SPT_CORE_SOURCES
     src/spectral/chromatic_adaptation.cpp
     src/spectral/cie.cpp
     src/spectral/glass_catalog.cpp
+    src/spectral/line_spectra.cpp
     src/spectral/metal_catalog.cpp
     src/spectral/dye_catalog.cpp
     src/spectral/observer.cpp

@@ -66,7 +66,7 @@ void print_summary(const spt::Scene& scene, const spt::RenderSettings& rs, const
     const std::string requested =
         st.samples_completed == rs.spp ? std::string() : " (of " + std::to_string(rs.spp) + " requested)";
     std::fprintf(stderr,
-                 "%s: %dx%d, %d spp%s, %s spectral bins, %d thread(s)\n"
+                 "%s: %dx%d, %d spp%s, %s, %d thread(s)\n"
                  "  integrator %s (%s)\n"
                  "  scene loaded in %.3f s (BVH built in %.3f s); peak memory %.0f MiB\n"
                  "  time %.2f s, %.3g paths/s, %.3g rays/s (%.3g rays)\n"
@@ -365,8 +365,11 @@ int run(const spt::Options& opt) {
         const auto [fewest, most] = film.sample_count_range();
         const std::pair<int, int> per_pixel =
             stats.cancelled ? std::pair{int(fewest), int(most)} : std::pair{stats.samples_completed, stats.samples_completed};
+        // The metadata names the spectra's resolution the scene was built with (build_scene).
+        spt::Options as_rendered = opt;
+        as_rendered.spectral = scene->spectral_resolution;
         auto_stops = write_outputs(opt, written, film,
-                                   spt::render_metadata(opt, rs, stats, film.observer(), per_pixel));
+                                   spt::render_metadata(as_rendered, rs, stats, film.observer(), per_pixel));
     } else if (!stats.cancelled) {  // an unfinished part is not written: rendered again, it is whole
         info.samples_completed = stats.samples_completed;
         const std::string state = film.save_state();
@@ -379,9 +382,10 @@ int run(const spt::Options& opt) {
     }
 
     if (!opt.quiet) {
-        const std::string bins = opt.spectral.bins == spt::SpectralResolution::kExact
-                                     ? "exact"
-                                     : std::to_string(opt.spectral.bins);
+        const spt::SpectralResolution used = scene->spectral_resolution;
+        std::string bins = used.bins == spt::SpectralResolution::kExact ? "exact spectra"
+                                                                         : std::to_string(used.bins) + " spectral bins";
+        if (!scene->spectral_resolution_reason.empty()) bins += " (" + scene->spectral_resolution_reason + ")";
         print_summary(*scene, rs, stats, film, bins, integrator.reason, load_seconds);
         if (const std::string note = spt::missed_light_paths(rs.integrator, *scene); !note.empty())
             std::fprintf(stderr, "  note: %s\n", note.c_str());

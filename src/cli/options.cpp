@@ -122,7 +122,8 @@ Options:
                          the outputs hold raw camera RGB (no colour space; .png: that RGB
                          through the sRGB curve), normalised so a constant spectrum 1 gives g = 1
   --spectral-bins N      bins per spectrum, 1 to 1024, or 'exact' to evaluate the
-                         analytic spectra at each wavelength (default 16)
+                         analytic spectra at each wavelength (default 16, more for
+                         lights with narrow lines, exact with fluorescence)
   --threads T            worker threads (1 to 1024; default: all cores)
   --tile SHAPE           the tiles workers take (tiles schedule): N (N x N pixels), WxH,
                          rows[:N] (whole-width strips N pixels tall, default 1),
@@ -306,6 +307,7 @@ Options parse_options(const std::vector<std::string>& args) {
                                  o.color_space + "'");
         } else if (flag == "--spectral-bins") {
             const std::string v = next_value();
+            o.spectral.automatic = false;
             o.spectral.bins = equal_ignoring_case(v, "exact") ? SpectralResolution::kExact
                                            : parse_integer<int>(flag, v, SpectralResolution::kMinBins,
                                                                 SpectralResolution::kMaxBins,

@@ -32,7 +32,7 @@ struct Options {
     std::optional<double> scale;            ///< the scene's size times this (not with width/height)
     std::vector<std::string> outputs;       ///< unset: "<scene>.png"
     std::uint64_t color_resolution = 1ull << 25;
-    SpectralResolution spectral;
+    SpectralResolution spectral{SpectralResolution::kDefaultBins, true};
     std::string color_space = "srgb";
     SpectralBands spectral_bands;  ///< count 0: no spectral channels in the .exr outputs
     std::string sensor;            ///< camera sensitivities (CSV) instead of CIE 1931; empty: none

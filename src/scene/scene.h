@@ -63,6 +63,10 @@ struct Scene : ShapeArrays {
     /// One line for --list-scenes: the file's "summary", else the first sentence of its
     /// "description" (empty when it has neither).
     std::string summary;
+    /// The spectra's resolution the scene was built with, and why it is not the one asked
+    /// for ("" when it is): build_scene.
+    SpectralResolution spectral_resolution;
+    std::string spectral_resolution_reason;
     CameraSpec camera;
     int width = 512, height = 512, spp = 128;  ///< defaults the command line may override
     std::string output;  ///< the image file written when the command line names none (empty: NAME.png)

@@ -21,6 +21,7 @@
 #include "scene/medium_parser.h"
 #include "scene/spectrum_parser.h"
 #include "scene/texture_parser.h"
+#include "spectral/line_spectra.h"
 
 namespace spt {
 
@@ -1054,15 +1055,41 @@ private:
 
 }  // namespace
 
+namespace {
+
+/// The bins the scene's lights need (spectral/line_spectra.h): the most any light with one
+/// spectrum (area lights, point and spot lights, a constant background) needs.
+int bins_for_lights(const Scene& scene) {
+    int bins = SpectralResolution::kDefaultBins;
+    for (const Light& light : scene.lights)
+        std::visit([&](const auto& l) {
+            if constexpr (requires { l.Le.source(); }) bins = std::max(bins, bins_for_light(l.Le.source()));
+            if constexpr (requires { l.intensity.source(); }) bins = std::max(bins, bins_for_light(l.intensity.source()));
+        }, light);
+    return bins;
+}
+
+}  // namespace
+
 Scene build_scene(const SceneDescription& description, SpectralResolution resolution,
                   const RelativeFileReader& read_relative) {
     Scene scene = Builder(description.files, resolution, read_relative).load(description.root, description.name);
-    // Fluorescence carries light from the UV (model/fluorescence.h: transport from 300 nm) but
-    // bins stop at 380 nm, where a 365 nm lamp would read its 380 nm value: such scenes
-    // evaluate every spectrum exactly.
-    if (scene.effects.fluorescence && resolution.bins != SpectralResolution::kExact)
-        return Builder(description.files, SpectralResolution{SpectralResolution::kExact}, read_relative)
-            .load(description.root, description.name);
+    SpectralResolution used = resolution;
+    std::string why;
+    if (scene.effects.fluorescence && resolution.bins != SpectralResolution::kExact) {
+        // Fluorescence carries light from the UV (model/fluorescence.h: transport from 300
+        // nm) but bins stop at 380 nm, where a 365 nm lamp would read its 380 nm value: such
+        // scenes evaluate every spectrum exactly.
+        used.bins = SpectralResolution::kExact;
+        why = "fluorescence reaches below the bins' 380 nm";
+    } else if (resolution.automatic && resolution.bins != SpectralResolution::kExact) {
+        used.bins = std::max(resolution.bins, bins_for_lights(scene));
+        if (used.bins != resolution.bins) why = "the lights' narrow lines need them";
+    }
+    if (used.bins != resolution.bins)
+        scene = Builder(description.files, used, read_relative).load(description.root, description.name);
+    scene.spectral_resolution = used;
+    scene.spectral_resolution_reason = why;
     return scene;
 }
 

@@ -29,6 +29,9 @@ struct SpectralResolution {
     static constexpr int kExact = 0;
     static constexpr int kMinBins = 1, kMaxBins = 1024, kDefaultBins = 16;
     int bins = kDefaultBins;  ///< kExact (0) means no binning
+    /// The bin count was not chosen by the user: a scene whose lights have narrow lines gets
+    /// more (spectral/line_spectra.h, build_scene).
+    bool automatic = false;
 };
 
 class Spectrum {
