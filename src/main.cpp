@@ -289,8 +289,14 @@ int run(const spt::Options& opt) {
     std::optional<spt::Observer> sensor;
     if (!opt.sensor.empty()) sensor.emplace(spt::load_sensor(opt.sensor));
 
+    // The options as rendered: with the spectra's resolution the scene was built with
+    // (build_scene may raise it), which checkpoints, parts and image metadata record, so
+    // work at another resolution is never resumed or merged into this one.
+    spt::Options as_rendered = opt;
+    as_rendered.spectral = scene->spectral_resolution;
+
     // ---- Checkpoints: what must match to resume, and the state of the last whole pass ----
-    spt::CheckpointInfo info{spt::describe_render(opt, rs, scene_files, sensor ? &*sensor : nullptr), 0,
+    spt::CheckpointInfo info{spt::describe_render(as_rendered, rs, scene_files, sensor ? &*sensor : nullptr), 0,
                              rs.first_sample};
     spt::Film film(rs.width, rs.height, sensor ? *sensor : spt::Cie1931::get());
     if (const spt::SpectralBands& bands = opt.spectral_bands; bands.count > 0) {
@@ -300,7 +306,7 @@ int run(const spt::Options& opt) {
         if (bands.min_nm < spt::kLambdaMin || bands.max_nm > spt::kLambdaMax) {
             rs.wide_wavelengths = spt::WideWavelengthSampling::covering(
                 static_cast<float>(bands.min_nm), static_cast<float>(bands.max_nm));
-            if (opt.spectral.bins != spt::SpectralResolution::kExact)
+            if (scene->spectral_resolution.bins != spt::SpectralResolution::kExact)
                 std::fprintf(stderr,
                              "pathtracer: warning: --spectral-range reaches beyond 360-830 nm, "
                              "where binned spectra (380-780 nm) hold their end values; "
@@ -365,9 +371,6 @@ int run(const spt::Options& opt) {
         const auto [fewest, most] = film.sample_count_range();
         const std::pair<int, int> per_pixel =
             stats.cancelled ? std::pair{int(fewest), int(most)} : std::pair{stats.samples_completed, stats.samples_completed};
-        // The metadata names the spectra's resolution the scene was built with (build_scene).
-        spt::Options as_rendered = opt;
-        as_rendered.spectral = scene->spectral_resolution;
         auto_stops = write_outputs(opt, written, film,
                                    spt::render_metadata(as_rendered, rs, stats, film.observer(), per_pixel));
     } else if (!stats.cancelled) {  // an unfinished part is not written: rendered again, it is whole

@@ -887,6 +887,24 @@ TEST_F(Cli, CheckpointResumesOnlyWithTheSameSensor) {
     EXPECT_EQ(run(with({"--sensor", "a.csv", "--resume", "c.ckpt"})).exit_code, 0);
 }
 
+// A scene whose lights need more bins than the default renders with them when the user does
+// not choose (spectral/line_spectra.h); checkpoints record the bins used, so a render at
+// another resolution never resumes it.
+TEST_F(Cli, BinsChosenForTheLightsAreTheOnesRecorded) {
+    const std::vector<std::string> base = {"colorchecker-f11", "--width", "6", "--height", "4", "--spp", "2"};
+    auto with = [&](std::vector<std::string> more) {
+        more.insert(more.begin(), base.begin(), base.end());
+        return more;
+    };
+    const RunResult first = run(with({"--checkpoint", "c.ckpt", "-o", "a.pfm"}));
+    ASSERT_EQ(first.exit_code, 0) << first.err;
+    EXPECT_NE(first.err.find("64 spectral bins (the lights' narrow lines need them)"), std::string::npos) << first.err;
+    const RunResult sixteen = run(with({"--spectral-bins", "16", "--resume", "c.ckpt", "-o", "b.pfm"}));
+    EXPECT_NE(sixteen.exit_code, 0);
+    EXPECT_NE(sixteen.err.find("cannot resume"), std::string::npos) << sixteen.err;
+    EXPECT_EQ(run(with({"--spectral-bins", "64", "--resume", "c.ckpt", "-o", "b.pfm", "--quiet"})).exit_code, 0);
+}
+
 TEST_F(Cli, ExrHeaderCarriesTheRenderMetadata) {
     ASSERT_EQ(run({"--width", "4", "--height", "2", "--spp", "3", "--seed", "12345678901234",
                    "--quiet", "-o", "a.exr"})

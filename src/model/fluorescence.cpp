@@ -7,7 +7,8 @@ namespace spt {
 
 namespace {
 
-/// The cumulative sums of a density per 1 nm bin, scaled to end at 1 (all 0 when it sums to 0).
+/// The cumulative sums of a density per 1 nm bin, scaled to end at 1 (when the density sums
+/// to 0, all 0 but the last).
 std::vector<float> cumulative(const std::vector<float>& pdf) {
     std::vector<double> c(pdf.size() + 1, 0.0);
     for (std::size_t k = 0; k < pdf.size(); ++k) c[k + 1] = c[k] + pdf[k];

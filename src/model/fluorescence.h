@@ -54,8 +54,8 @@
 //     the surface's reflectance (a diffuse surface's kd; 1 for other types, whose albedo
 //     depends on the direction),
 //     w = mean over the lanes of A·Φ·e(λj) (the re-emission's expected weight under a flat
-//     illuminant, without the Stokes cut); P = 1 where w = 0 (nothing re-emitted at these wavelengths), 0 where the
-//     reflectance part is black.
+//     illuminant, without the Stokes cut); P = 1 where w = 0 (nothing re-emitted at these
+//     wavelengths), 0 where the reflectance part is black.
 // Next-event estimation at a fluorescent vertex estimates both parts, always: the reflectance
 // part with the path's wavelengths, the re-emission with its own λi (drawn from p, weights
 // D/p, no branch) through a white Lambertian lobe; only the continuation chooses a branch. Each

@@ -50,8 +50,9 @@ public:
     };
 
     /// Builds over `lights` (Scene::lights): the finite lights whose `weights` (their power,
-    /// the bounds' φ) are > 0 go into the tree, each emitting mesh triangle by triangle, the infinite ones
-    /// (light_type infinite, and PlaneLight when with_planes) into the infinite share.
+    /// the bounds' φ) are > 0 go into the tree, each emitting mesh triangle by triangle, the
+    /// infinite ones (light_type infinite, and PlaneLight when with_planes) into the infinite
+    /// share.
     /// `first_triangle[i]`: the scene index of mesh light i's first triangle when its
     /// triangles are consecutive there (a hit's triangle is then known), else −1 (the mesh
     /// is one entry).
