@@ -10,6 +10,7 @@
 #include "core/rng.h"
 #include "core/sampling.h"
 #include "geometry/bvh.h"
+#include "geometry/instanced_mesh.h"
 #include "scene/scene.h"
 #include "nearest_by_loop.h"
 
@@ -36,18 +37,43 @@ Soup random_soup(Rng& rng, int n_spheres, int n_triangles) {
     return s;
 }
 
-/// Nearest hit by testing every primitive (the reference).
+/// Nearest hit by testing every primitive (the reference): each primitive's distance below
+/// the ray's t_max, the smallest kept, and of equal ones the smallest PrimId (spheres before
+/// triangles, then by index), which is what the BVH promises whatever its tree.
 bool brute_force(const Soup& s, const Ray& ray, BvhHit& hit) {
-    double t_best = ray.t_max;
     bool found = false;
+    auto consider = [&](double t, PrimId prim) {
+        if (!(t < ray.t_max)) return false;
+        if (found && (t > hit.t || (t == hit.t && prim.bits > hit.prim.bits))) return false;
+        hit.t = t, hit.prim = prim, found = true;
+        return true;
+    };
     for (std::size_t i = 0; i < s.spheres.size(); ++i)
-        if (const double t = s.spheres[i].intersect_t(ray); t < t_best)
-            t_best = t, hit.prim = PrimId(ShapeKind::sphere, static_cast<std::uint32_t>(i)), found = true;
+        consider(s.spheres[i].intersect_t(ray), PrimId(ShapeKind::sphere, static_cast<std::uint32_t>(i)));
     for (std::size_t i = 0; i < s.triangles.size(); ++i)
-        if (const auto ti = s.triangles[i].intersect(ray, t_best))
-            t_best = ti->t, hit.prim = PrimId(ShapeKind::triangle, static_cast<std::uint32_t>(i)), hit.tri = *ti, found = true;
-    hit.t = t_best;
+        if (const auto ti = s.triangles[i].intersect(ray, ray.t_max))
+            if (consider(ti->t, PrimId(ShapeKind::triangle, static_cast<std::uint32_t>(i)))) hit.tri = *ti;
     return found;
+}
+
+/// The BVH over the soup against brute_force on one ray: the same answer, the same
+/// distance and the same primitive; occluded() agrees. Returns whether the ray hits.
+bool expect_bvh_equals_brute_force(const Bvh& bvh, const Soup& s, const Ray& ray, int k) {
+    const BvhShapes shapes = BvhShapes::of_arrays(s.spheres, s.triangles);
+    BvhHit expected, got;
+    const bool want = brute_force(s, ray, expected);
+    double t_best = ray.t_max;
+    const bool have = bvh.intersect(ray, shapes, t_best, got);
+    EXPECT_EQ(have, want) << "ray " << k;
+    EXPECT_EQ(bvh.occluded(ray, shapes), want) << "ray " << k;
+    if (!want || !have) return false;
+    EXPECT_EQ(got.t, expected.t) << "ray " << k;
+    EXPECT_EQ(t_best, expected.t);
+    EXPECT_EQ(got.prim, expected.prim) << "ray " << k;
+    if (got.prim.kind() == ShapeKind::triangle) {
+        EXPECT_EQ(got.tri.b0, expected.tri.b0) << "ray " << k;
+    }
+    return true;
 }
 
 /// A random direction; every fourth is axis-parallel and every fourth has one zero component.
@@ -83,21 +109,103 @@ TEST(Bvh, NearestHitEqualsBruteForce) {
                 const Triangle& t = s.triangles[k % s.triangles.size()];
                 ray.d = normalize(t.p1 - o);
             }
-            BvhHit expected, got;
-            const bool want = brute_force(s, ray, expected);
-            double t_best = ray.t_max;
-            const bool have = bvh.intersect(ray, BvhShapes::of_arrays(s.spheres, s.triangles), t_best, got);
-            ASSERT_EQ(have, want) << "ray " << k;
-            EXPECT_EQ(bvh.occluded(ray, BvhShapes::of_arrays(s.spheres, s.triangles)), want) << "ray " << k;
-            if (!want) continue;
-            ++hits;
-            EXPECT_EQ(got.t, expected.t) << "ray " << k;
-            EXPECT_EQ(t_best, expected.t);
-            EXPECT_EQ(got.prim, expected.prim) << "ray " << k;
+            hits += expect_bvh_equals_brute_force(bvh, s, ray, k);
         }
         if (n_spheres + n_triangles > 100) {
             EXPECT_GT(hits, 1000);
         }
+    }
+}
+
+/// Adversarial layouts, where many primitives are equally near: a grid of triangles sharing
+/// edges and vertices, laid twice (every hit on it ties with its copy), a fan around one
+/// vertex, huge and tiny triangles, collinear ones, coincident spheres, all in shuffled order.
+/// Rays go through the shared vertices and edge midpoints, graze the grid's plane and run
+/// along axes. The BVH must give brute_force's answer: the nearest, and of equally near ones
+/// the smallest PrimId, whatever leaf or node the walk meets them in.
+TEST(Bvh, TiesGoToTheSmallestPrimitiveWhateverTheTree) {
+    Rng rng(23, 0, 0);
+    Soup s;
+    constexpr int kGrid = 24;
+    auto grid_point = [](int i, int j) { return Vec3(-3.f + 0.25f * i, -3.f + 0.25f * j, 0.5f); };
+    for (int copy = 0; copy < 2; ++copy)
+        for (int i = 0; i < kGrid; ++i)
+            for (int j = 0; j < kGrid; ++j) {
+                s.triangles.push_back({grid_point(i, j), grid_point(i + 1, j), grid_point(i + 1, j + 1), 0});
+                s.triangles.push_back({grid_point(i, j), grid_point(i + 1, j + 1), grid_point(i, j + 1), 0});
+            }
+    const Vec3 hub(1.f, -2.f, -1.f);
+    for (int k = 0; k < 32; ++k) {
+        const float a0 = 2.f * kPi * k / 32, a1 = 2.f * kPi * (k + 1) / 32;
+        s.triangles.push_back({hub, hub + Vec3(std::cos(a0), std::sin(a0), -0.3f), hub + Vec3(std::cos(a1), std::sin(a1), -0.3f), 0});
+    }
+    s.triangles.push_back({{-4e3f, -4e3f, -2.f}, {4e3f, -4e3f, -2.f}, {0.f, 4e3f, -2.f}, 0});  // huge, below all
+    for (int k = 0; k < 200; ++k) {
+        const Vec3 a(-3.f + 6.f * rng.uniform(), -3.f + 6.f * rng.uniform(), -1.5f + rng.uniform());
+        s.triangles.push_back({a, a + Vec3(1e-4f, 0, 0), a + Vec3(0, 1e-4f, 1e-5f), 0});  // tiny
+    }
+    s.triangles.push_back({{0, 0, 0.7f}, {1, 1, 0.7f}, {2, 2, 0.7f}, 0});  // collinear: never hit
+    for (int k = 0; k < 6; ++k) s.spheres.push_back({{-2.f, 2.f, -0.5f}, 0.4f, 0});  // coincident
+    // Shuffled, so that copies and neighbours sit in unrelated leaves.
+    for (std::size_t i = s.triangles.size() - 1; i > 0; --i)
+        std::swap(s.triangles[i], s.triangles[static_cast<std::size_t>(rng.uniform() * float(i + 1)) % (i + 1)]);
+    Bvh bvh;
+    bvh.build(BvhShapes::of_arrays(s.spheres, s.triangles));
+    int hits = 0, ties = 0;
+    for (int k = 0; k < 20000; ++k) {
+        Vec3 o = Vec3(rng.uniform(), rng.uniform(), rng.uniform()) * 8.f - Vec3(4, 4, 4);
+        Vec3 target;
+        switch (k % 5) {
+            case 0: target = grid_point(int(rng.uniform() * kGrid), int(rng.uniform() * kGrid)); break;  // a vertex
+            case 1: target = 0.5f * (grid_point(k % kGrid, 3) + grid_point(k % kGrid + 1, 4)); break;  // a diagonal
+            case 2: target = hub; break;
+            case 3: target = s.spheres[0].center + Vec3(0.4f, 0, 0); break;  // the spheres' rim
+            default: target = o + random_direction(rng, k); break;
+        }
+        if (k % 7 == 0) o.z = 0.5f;  // in the grid's plane: grazing
+        const Vec3 d = target - o;
+        if (!(length(d) > 0.f)) continue;
+        const Ray ray{o, normalize(d), k % 3 == 0 ? 1.f + 6.f * rng.uniform() : kInfinity};
+        hits += expect_bvh_equals_brute_force(bvh, s, ray, k);
+        BvhHit first;
+        if (brute_force(s, ray, first)) {
+            // A tie: some other primitive at the same distance (the brute force keeps the first).
+            Soup rest = s;
+            if (first.prim.kind() == ShapeKind::triangle) rest.triangles[first.prim.index()] = s.triangles.back();
+            else rest.spheres[first.prim.index()] = s.spheres.back();
+            BvhHit second;
+            if (brute_force(rest, ray, second) && second.t == first.t) ++ties;
+        }
+        if (::testing::Test::HasFailure()) break;
+    }
+    EXPECT_GT(hits, 10000);
+    EXPECT_GT(ties, 2000) << "the layout must make ties, or the test tests nothing";
+}
+
+/// Instances: of equally near instanced triangles the smallest instance wins, and instanced
+/// triangles win over the arrays' own triangle at the same distance.
+TEST(Bvh, TiesBetweenInstancesGoToTheSmallestInstance) {
+    InstancedMesh mesh;
+    mesh.triangles = {{{-1, -1, 0}, {1, -1, 0}, {0, 1, 0}, 0}};
+    mesh.bounds = bounds(mesh.triangles[0]);
+    mesh.bvh.build(mesh.shapes());
+    AffineMap shifted;
+    shifted.a[0][3] = 5.0;
+    std::vector<MeshInstance> instances = {MeshInstance(0, shifted), MeshInstance(0, AffineMap{}),
+                                           MeshInstance(0, shifted), MeshInstance(0, AffineMap{})};
+    for (MeshInstance& i : instances) i.world_bounds = instance_bounds(i.to_world, mesh.bounds);
+    const std::vector<Triangle> own = {mesh.triangles[0]};
+    BvhShapes shapes = BvhShapes::of_arrays(own);
+    shapes.instances = instances;
+    shapes.meshes = &mesh;
+    Bvh bvh;
+    bvh.build(shapes);
+    for (const float x : {0.f, 5.f}) {
+        BvhHit hit;
+        double t_best = kInfinity;
+        ASSERT_TRUE(bvh.intersect({{x, 0.f, 3.f}, {0, 0, -1}, kInfinity}, shapes, t_best, hit));
+        EXPECT_EQ(t_best, 3.0);
+        EXPECT_EQ(hit.instance, x == 0.f ? 1u : 0u) << "at x = " << x;
     }
 }
 

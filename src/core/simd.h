@@ -39,6 +39,20 @@ inline unsigned lane_bits(Int4 mask) {
 inline unsigned lane_bits(const Long4& mask) {
     return unsigned(mask[0] & 1) | unsigned(mask[1] & 2) | unsigned(mask[2] & 4) | unsigned(mask[3] & 8);
 }
+/// Eight floats and the masks their comparisons give (one AVX register, or two SSE registers
+/// where the build does not target AVX): the BVH's wide nodes test eight boxes at once. Passed
+/// by reference, as Double4 is.
+using Float8 = float __attribute__((vector_size(32)));
+using Mask8 = std::int32_t __attribute__((vector_size(32)));
+/// lane_bits of a Float8 comparison's mask (lane k → bit k).
+inline unsigned lane_bits(const Mask8& mask) {
+#if defined(__AVX__)
+    return static_cast<unsigned>(__builtin_ia32_movmskps256(reinterpret_cast<Float8>(mask)));
+#else
+    return lane_bits(Int4(__builtin_shufflevector(mask, mask, 0, 1, 2, 3))) |
+           lane_bits(Int4(__builtin_shufflevector(mask, mask, 4, 5, 6, 7))) << 4;
+#endif
+}
 /// Four floats from p (any alignment).
 inline Float4 load4(const float* p) {
     Float4 v;

@@ -200,12 +200,13 @@ std::uint32_t Bvh::collapse(const std::vector<BinaryNode>& tree, int node, const
                             const BvhShapes& shapes, BvhBuildStats& stats) {
     const auto index = static_cast<std::uint32_t>(m_nodes.size());
     m_nodes.emplace_back();
-    for (int a = 0; a < 3; ++a) m_nodes[index].lo[a] = splat4(kInfinity), m_nodes[index].hi[a] = splat4(-kInfinity);
+    for (int a = 0; a < 3; ++a) m_nodes[index].box[0][a] = Float8{} + kInfinity, m_nodes[index].box[1][a] = Float8{} - kInfinity;
     for (std::uint32_t& c : m_nodes[index].child) c = 0;
-    // The children: open the largest inner node among them until there are four.
-    int slots[4] = {node, -1, -1, -1}, n_slots = 1;
+    // The children: open the largest inner node among them until there are kWidth.
+    constexpr int kWidth = WideBvhNode::kWidth;
+    int slots[kWidth] = {node}, n_slots = 1;
     if (tree[node].child[0] >= 0) slots[0] = tree[node].child[0], slots[1] = tree[node].child[1], n_slots = 2;
-    while (n_slots < 4) {
+    while (n_slots < kWidth) {
         int open = -1;
         double open_area = -1.0;
         for (int k = 0; k < n_slots; ++k)
@@ -239,7 +240,7 @@ std::uint32_t Bvh::collapse(const std::vector<BinaryNode>& tree, int node, const
             ++stats.leaves;
         }
         WideBvhNode& wide = m_nodes[index];
-        for (int a = 0; a < 3; ++a) wide.lo[a][k] = c.box.lo[a], wide.hi[a][k] = c.box.hi[a];
+        for (int a = 0; a < 3; ++a) wide.box[0][a][k] = c.box.lo[a], wide.box[1][a][k] = c.box.hi[a];
         wide.child[k] = ref;
     }
     return index;
@@ -300,31 +301,31 @@ inline double quadric_t(const Ray& ray, const BvhShapes& shapes, PrimId p) {
     });
 }
 
-/// The ray's slab constants in four lanes (RaySlabs, splatted once per ray).
+/// The ray's slab constants in eight lanes (RaySlabs, splatted once per ray).
 struct RayLanes {
-    Float4 o[3], inv_d[3];
-    bool negative[3];  ///< the direction is negative on the axis: hi is met first
+    Float8 o[3], inv_d[3];
+    /// Per axis, which of a node's bounds (0: lower, 1: upper) the ray meets first (the upper
+    /// where the direction is negative), and which it leaves by.
+    int near[3], far[3];
     explicit RayLanes(const Ray& ray) {
         const RaySlabs slabs(ray);
         for (int a = 0; a < 3; ++a) {
-            o[a] = splat4(slabs.o[a]);
-            inv_d[a] = splat4(slabs.inv_d[a]);
-            negative[a] = slabs.near[a] == 1;
+            for (int k = 0; k < WideBvhNode::kWidth; ++k) o[a][k] = slabs.o[a], inv_d[a][k] = slabs.inv_d[a];
+            near[a] = slabs.near[a];
+            far[a] = 1 - slabs.near[a];
         }
     }
 };
 
-/// slab_hit (aabb.h) for the four children at once, lane by lane with the same operations
+/// slab_hit (aabb.h) for the eight children at once, lane by lane with the same operations
 /// (so the same conservative result); returns one bit per child hit and, in t_entry, where the
 /// ray enters each box.
-inline unsigned hit_children(const WideBvhNode& node, const RayLanes& r, float t_max, Float4& t_entry) {
+inline unsigned hit_children(const WideBvhNode& node, const RayLanes& r, float t_max, Float8& t_entry) {
     constexpr float kGrow = 1.f + 2.f * gamma_bound(3);
-    Float4 t0 = splat4(0.f), t1 = splat4(t_max);
+    Float8 t0{}, t1 = Float8{} + t_max;
     for (int a = 0; a < 3; ++a) {
-        const Float4 b_near = r.negative[a] ? node.hi[a] : node.lo[a];
-        const Float4 b_far = r.negative[a] ? node.lo[a] : node.hi[a];
-        const Float4 t_near = (b_near - r.o[a]) * r.inv_d[a];
-        const Float4 t_far = (b_far - r.o[a]) * r.inv_d[a] * kGrow;
+        const Float8 t_near = (node.box[r.near[a]][a] - r.o[a]) * r.inv_d[a];
+        const Float8 t_far = (node.box[r.far[a]][a] - r.o[a]) * r.inv_d[a] * kGrow;
         t0 = t_near > t0 ? t_near : t0;  // a NaN never shrinks the interval
         t1 = t_far < t1 ? t_far : t1;
     }
@@ -350,38 +351,97 @@ inline unsigned lanes_to_test(const BvhLeafPacket& packet, unsigned valid, const
     return (triangle_candidates(packet.triangles, ray, t_max) & triangles) | (valid & ~triangles);
 }
 
+/// Asks for the memory of a child the walk will visit (an inner node's four lines, or a leaf's
+/// first packet and a half) while the ray is tested against the node before it: a tree larger
+/// than the caches spends most of its time waiting on these loads, and asked for all at once
+/// they arrive together instead of one after another.
+inline void prefetch_child(std::uint32_t ref, const WideBvhNode* nodes, const BvhLeafPacket* leaves) {
+    const char* p = (ref & 15u) == 0 ? reinterpret_cast<const char*>(nodes + (ref >> 4))
+                                     : reinterpret_cast<const char*>(leaves + (ref >> 4));
+    for (int line = 0; line < 4; ++line) __builtin_prefetch(p + 64 * line);
+}
+
+/// The children of `node` in `mask` (hit, entered at t_entry) into `out`, nearest first,
+/// their memory asked for; returns how many.
+inline int nearest_first(const WideBvhNode& node, unsigned mask, const Float8& t_entry, const WideBvhNode* nodes,
+                         const BvhLeafPacket* leaves, StackEntry* out) {
+    int n = 0;
+    for (; mask != 0; mask &= mask - 1) {
+        const int k = __builtin_ctz(mask);
+        prefetch_child(node.child[k], nodes, leaves);
+        const StackEntry e{node.child[k], t_entry[k]};
+        int j = n++;
+        for (; j > 0 && out[j - 1].t > e.t; --j) out[j] = out[j - 1];
+        out[j] = e;
+    }
+    return n;
+}
+
 /// The valid lanes of the packets of a leaf of `count` primitives, from `left` primitives on.
 inline unsigned valid_lanes(int left) { return left >= 4 ? 15u : (1u << left) - 1u; }
 
 }  // namespace
 
-bool Bvh::intersect(const Ray& ray, const BvhShapes& shapes, double& t_best, BvhHit& hit) const {
+namespace {
+
+/// The order among equally near primitives: the smaller key wins.
+inline std::uint64_t tie_key(std::uint32_t instance, PrimId prim) {
+    return std::uint64_t(instance) << 32 | prim.bits;
+}
+
+/// Once a hit is held, the candidate tests take its distance loosened by this factor, so that
+/// a primitive at exactly that distance reaches the comparison that breaks the tie: the
+/// triangle test compares its scaled distance with t_max·det before dividing, which can
+/// differ from comparing t with t_max by a few rounding errors (each below 2⁻⁵³).
+constexpr double kTieSlack = 1.0 + 0x1p-50;
+
+/// The box tests' limit while the nearest hit is at t: above t by a margin for the rounding of
+/// a box's entry distance (computed in float: a few errors of 2⁻²⁴ each, more where the origin
+/// nearly cancels a bound), so that a box holding a primitive exactly as near is still
+/// entered. It costs the rare box entered just beyond the hit.
+inline float box_limit(double t) { return next_float_up(static_cast<float>(t * (1.0 + 0x1p-16))); }
+
+}  // namespace
+
+bool Bvh::intersect(const Ray& ray, const BvhShapes& shapes, double& t_best, BvhHit& hit, std::uint32_t instance,
+                    double limit) const {
     if (m_nodes.empty()) return false;
     const RayLanes lanes(ray);
     const ShearedRay sheared(ray);
-    // The box test's limit in float, never below the double t_best.
-    float t_limit = next_float_up(static_cast<float>(t_best));
-    // Each node pushes at most three children; the depth is below kStackSize.
-    StackEntry stack[3 * kStackSize];
+    float t_limit = box_limit(t_best);
+    // The candidate tests' limit: t_best, or a little beyond it while a hit is held (ties),
+    // never beyond the distance the walk began with.
+    double t_test = hit.prim.valid() ? std::min(t_best * kTieSlack, limit) : t_best;
+    bool found = false;
+    // Whether a primitive at distance t beats the hit held (kept on equal keys: a primitive is
+    // met once per walk).
+    auto nearer = [&](double t, PrimId prim) {
+        if (t != t_best) return t < t_best;
+        return hit.prim.valid() && tie_key(instance, prim) < tie_key(hit.instance, hit.prim);
+    };
+    auto tighten = [&] {
+        t_limit = box_limit(t_best);
+        t_test = std::min(t_best * kTieSlack, limit);
+        found = true;
+    };
+    auto take = [&](double t, PrimId prim) {
+        t_best = t, hit.prim = prim, hit.instance = instance;
+        tighten();
+    };
+    // Each node pushes at most kWidth − 1 children; the depth is below kStackSize.
+    constexpr int kWidth = WideBvhNode::kWidth;
+    StackEntry stack[(kWidth - 1) * kStackSize];
     int sp = 0;
     std::uint32_t ref = 0;  // the root
-    bool found = false;
     while (true) {
         if ((ref & kCountMask) == 0) {
-            Float4 t_entry;
-            unsigned mask = hit_children(m_nodes[ref >> 4], lanes, t_limit, t_entry);
+            Float8 t_entry;
+            const WideBvhNode& node = m_nodes[ref >> 4];
+            unsigned mask = hit_children(node, lanes, t_limit, t_entry);
             if (mask != 0) {
                 // The children hit, nearest first: continue with the nearest, stack the others.
-                StackEntry near[4];
-                int n = 0;
-                const WideBvhNode& node = m_nodes[ref >> 4];
-                for (; mask != 0; mask &= mask - 1) {
-                    const int k = __builtin_ctz(mask);
-                    StackEntry e{node.child[k], t_entry[k]};
-                    int j = n++;
-                    for (; j > 0 && near[j - 1].t > e.t; --j) near[j] = near[j - 1];
-                    near[j] = e;
-                }
+                StackEntry near[kWidth];
+                const int n = nearest_first(node, mask, t_entry, m_nodes.data(), m_leaf.data(), near);
                 for (int i = n - 1; i > 0; --i) stack[sp++] = near[i];
                 ref = near[0].ref;
                 continue;
@@ -389,29 +449,27 @@ bool Bvh::intersect(const Ray& ray, const BvhShapes& shapes, double& t_best, Bvh
         } else {
             const BvhLeafPacket* packet = m_leaf.data() + (ref >> 4);
             for (int left = static_cast<int>(ref & kCountMask); left > 0; left -= 4, ++packet) {
-                for (unsigned todo = lanes_to_test(*packet, valid_lanes(left), sheared, t_best); todo != 0;
+                for (unsigned todo = lanes_to_test(*packet, valid_lanes(left), sheared, t_test); todo != 0;
                      todo &= todo - 1) {
                     const int k = __builtin_ctz(todo);
                     const PrimId prim = packet->prim[k];
                     if (prim.kind() == ShapeKind::triangle) {
                         const TriangleLanes& tri = packet->triangles;
                         if (const auto ti = intersect_triangle(tri.vertex(0, k), tri.vertex(1, k), tri.vertex(2, k),
-                                                               sheared, t_best)) {
-                            t_best = ti->t, hit.prim = prim, hit.tri = *ti, hit.instance = BvhHit::kNoInstance;
-                            found = true;
-                            t_limit = next_float_up(static_cast<float>(t_best));
+                                                               sheared, t_test);
+                            ti && nearer(ti->t, prim)) {
+                            take(ti->t, prim);
+                            hit.tri = *ti;
                         }
                     } else if (prim.kind() == ShapeKind::instance) [[unlikely]] {
                         // The instance's own tree, with the ray in its object space.
                         const MeshInstance& inst = shapes.instances[prim.index()];
                         const InstancedMesh& mesh = shapes.meshes[inst.mesh];
-                        if (mesh.bvh.intersect(inst.to_object_ray(ray), mesh.shapes(), t_best, hit)) {
-                            hit.instance = prim.index(), found = true;
-                            t_limit = next_float_up(static_cast<float>(t_best));
-                        }
-                    } else if (const double t = quadric_t(ray, shapes, prim); t < t_best) {
-                        t_best = t, hit.prim = prim, hit.instance = BvhHit::kNoInstance, found = true;
-                        t_limit = next_float_up(static_cast<float>(t_best));
+                        if (mesh.bvh.intersect(inst.to_object_ray(ray), mesh.shapes(), t_best, hit, prim.index(),
+                                               limit))
+                            tighten();
+                    } else if (const double t = quadric_t(ray, shapes, prim); nearer(t, prim)) {
+                        take(t, prim);
                     }
                 }
             }
@@ -434,15 +492,18 @@ bool Bvh::occluded(const Ray& ray, const BvhShapes& shapes) const {
     const RayLanes lanes(ray);
     const ShearedRay sheared(ray);
     const float t_limit = next_float_up(ray.t_max);
-    std::uint32_t stack[3 * kStackSize];
+    std::uint32_t stack[(WideBvhNode::kWidth - 1) * kStackSize];
     int sp = 0;
     std::uint32_t ref = 0;
     while (true) {
         if ((ref & kCountMask) == 0) {
-            Float4 t_entry;
+            Float8 t_entry;
             const WideBvhNode& node = m_nodes[ref >> 4];
             if (unsigned mask = hit_children(node, lanes, t_limit, t_entry); mask != 0) {
-                // Any order will do: the first hit ends the walk.
+                // Any order will do: the first hit ends the walk (sorting them, measured, was
+                // slower).
+                for (unsigned m = mask; m != 0; m &= m - 1)
+                    prefetch_child(node.child[__builtin_ctz(m)], m_nodes.data(), m_leaf.data());
                 ref = node.child[__builtin_ctz(mask)];
                 for (mask &= mask - 1; mask != 0; mask &= mask - 1) stack[sp++] = node.child[__builtin_ctz(mask)];
                 continue;

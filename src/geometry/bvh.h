@@ -1,12 +1,17 @@
 // Bounding volume hierarchy over the bounded shapes of a scene (every type of the set with
 // bounds(), geometry/shape.h; infinite planes stay outside). A binary tree is built by binned SAH over
-// all three axes (Wald 2007), in parallel for large subtrees, then collapsed into 4-wide nodes
-// whose four child boxes are tested at once (the layout of Embree's BVH4 and of Ylitie et al.
+// all three axes (Wald 2007), in parallel for large subtrees, then collapsed into 8-wide nodes
+// whose eight child boxes are tested at once (the layout of Embree's BVH8 and of Ylitie et al.
 // 2017, without compression); leaves hold up to 8 primitives in packets of four, triangles
 // copied in leaf order side by side (triangle_lanes.h) so that four are tested at once.
 // Traversal is iterative with a fixed stack, nearest child first: no allocation and no
 // virtual call per ray. Box tests are conservative (aabb.h), so the watertight triangle test
 // decides every hit exactly as it would without the tree.
+//
+// The nearest hit does not depend on the tree: of the primitives whose distance is smallest,
+// the one with the smallest (instance, PrimId) wins, whatever order the walk meets them in. A
+// tree of another width or from another build therefore returns the same hit, as a loop over
+// the primitives does, and an image does not change with the tree.
 #pragma once
 #include <concepts>
 #include <cstdint>
@@ -78,17 +83,18 @@ struct BvhShapes {
     }
 };
 
-/// A 4-wide node: the boxes of its four children side by side (lane k = child k), tested
-/// against a ray at once with four-lane float vectors. An unused slot has an empty box
+/// An 8-wide node: the boxes of its eight children side by side (lane k = child k), tested
+/// against a ray at once with eight-lane float vectors. An unused slot has an empty box
 /// (lo = +inf, hi = −inf), which no ray hits.
 struct alignas(64) WideBvhNode {
-    Float4 lo[3], hi[3];
+    static constexpr int kWidth = 8;
+    Float8 box[2][3];  ///< box[0][axis]: the children's lower bounds; box[1][axis]: upper
     /// Per child: (index << 4) | count. count 0: an inner node (index into the nodes);
     /// count 1–15: a leaf of `count` primitives in the leaf packets from index on (four to a
     /// packet, the last one padded).
-    std::uint32_t child[4];
+    std::uint32_t child[kWidth];
 };
-static_assert(sizeof(WideBvhNode) == 128, "a wide node is two cache lines");
+static_assert(sizeof(WideBvhNode) == 256, "a wide node is four cache lines");
 
 /// Four primitives of a leaf, in leaf order (lane k = the leaf's primitive 4·packet + k).
 /// Triangles carry a copy of their vertices in `triangles` (so a leaf's triangles are read
@@ -137,13 +143,23 @@ public:
     /// Nearest hit with t in (0, t_best) among the primitives (the arrays the tree was built
     /// over). On a hit, `t_best` and `hit` are updated and true is returned. Children are
     /// visited nearest first.
-    bool intersect(const Ray& ray, const BvhShapes& shapes, double& t_best, BvhHit& hit) const;
+    /// Of equally near primitives, the one with the smallest (instance, PrimId) wins (the
+    /// arrays' own primitives count as instance kNoInstance). `hit` comes in empty; t_best may
+    /// be a distance found elsewhere (the caller's planes), which a primitive must beat strictly.
+    bool intersect(const Ray& ray, const BvhShapes& shapes, double& t_best, BvhHit& hit) const {
+        return intersect(ray, shapes, t_best, hit, BvhHit::kNoInstance, t_best);
+    }
 
     /// True if any primitive is hit with t in (0, ray.t_max) (shadow rays: the first hit
     /// found ends the walk, and children are not sorted).
     bool occluded(const Ray& ray, const BvhShapes& shapes) const;
 
 private:
+    /// intersect() for the primitives of `instance` (kNoInstance: the arrays' own), with
+    /// distances below `limit` (the caller's t_best when the walk began).
+    bool intersect(const Ray& ray, const BvhShapes& shapes, double& t_best, BvhHit& hit, std::uint32_t instance,
+                   double limit) const;
+
     struct BuildPrim {
         Aabb box;
         Vec3 centroid;
