@@ -1053,18 +1053,22 @@ private:
     }
 };
 
-}  // namespace
-
-namespace {
-
 /// The bins the scene's lights need (spectral/line_spectra.h): the most any light with one
 /// spectrum (area lights, point and spot lights, a constant background) needs.
 int bins_for_lights(const Scene& scene) {
+    // Each distinct spectrum once: bins_for_light renders a colour chart (0.1 ms), and a
+    // scene of ten thousand emitting triangles has a handful of spectra.
+    std::vector<const SpectrumSource*> seen;
     int bins = SpectralResolution::kDefaultBins;
+    auto consider = [&](const SpectrumSource& source) {
+        if (std::ranges::any_of(seen, [&](const SpectrumSource* s) { return *s == source; })) return;
+        seen.push_back(&source);
+        bins = std::max(bins, bins_for_light(source));
+    };
     for (const Light& light : scene.lights)
         std::visit([&](const auto& l) {
-            if constexpr (requires { l.Le.source(); }) bins = std::max(bins, bins_for_light(l.Le.source()));
-            if constexpr (requires { l.intensity.source(); }) bins = std::max(bins, bins_for_light(l.intensity.source()));
+            if constexpr (requires { l.Le.source(); }) consider(l.Le.source());
+            if constexpr (requires { l.intensity.source(); }) consider(l.intensity.source());
         }, light);
     return bins;
 }

@@ -34,6 +34,9 @@ struct SpectrumSource {
     static SpectrumSource rgb_sigmoid(double c0, double c1, double c2, double scale = 1);
     static SpectrumSource product(std::vector<SpectrumSource> factors, double scale = 1);
 
+    /// The same kind, parameters, table and factors (so the same function of λ).
+    bool operator==(const SpectrumSource&) const = default;
+
     /// Exact value at λ (nm).
     double eval(double lambda_nm) const;
     /// True when the value does not depend on λ (no dispersion, no binning error).
