@@ -2,6 +2,7 @@
 set(SPT_CORE_SOURCES
     src/cli/distinct_files.cpp
     src/cli/flag_warnings.cpp
+    src/cli/guiding_choice.cpp
     src/cli/image_size.cpp
     src/cli/integrator_choice.cpp
     src/cli/live_preview.cpp
@@ -53,6 +54,8 @@ set(SPT_CORE_SOURCES
     src/render/vertex_merging.cpp
     src/render/checkpoint.cpp
     src/render/film.cpp
+    src/render/guiding/directional_tree.cpp
+    src/render/guiding/guiding_field.cpp
     src/render/integrator.cpp
     src/render/light_bvh.cpp
     src/render/light_sampling.cpp

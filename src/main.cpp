@@ -15,6 +15,7 @@
 
 #include "cli/distinct_files.h"
 #include "cli/flag_warnings.h"
+#include "cli/guiding_choice.h"
 #include "cli/image_size.h"
 #include "cli/integrator_choice.h"
 #include "cli/live_preview.h"
@@ -249,6 +250,8 @@ int run(const spt::Options& opt) {
                               (rs.sampler != spt::SamplerKind::independent ? " or --sampler independent" : ""));
     rs.pass_spp = opt.pass_spp;
     rs.time_limit = opt.time_limit;
+    const spt::GuidingChoice guiding = spt::choose_guiding(opt, *scene, rs);
+    rs.guiding = guiding.mode;
     if (opt.print_passes) {
         std::printf("passes %d\nspp_per_pass %d\nspp %d\n", spt::pass_count(rs), spt::chunk_spp(rs), rs.spp);
         return 0;
@@ -390,6 +393,8 @@ int run(const spt::Options& opt) {
                                                                          : std::to_string(used.bins) + " spectral bins";
         if (!scene->spectral_resolution_reason.empty()) bins += " (" + scene->spectral_resolution_reason + ")";
         print_summary(*scene, rs, stats, film, bins, integrator.reason, load_seconds);
+        if (rs.integrator.kind == spt::IntegratorKind::path)
+            std::fprintf(stderr, "  guiding %s (%s)\n", spt::guiding_mode_name(rs.guiding), guiding.reason.c_str());
         if (const std::string note = spt::missed_light_paths(rs.integrator, *scene); !note.empty())
             std::fprintf(stderr, "  note: %s\n", note.c_str());
         if (stats.time_limited)

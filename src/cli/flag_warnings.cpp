@@ -23,6 +23,9 @@ std::vector<std::string> ineffective_flag_warnings(const Options& options, const
         {"--merge-radius", integrator.kind != IntegratorKind::vcm, "with the " + kind + " integrator (vcm only)"},
         {"--light-sampling", integrator.kind != IntegratorKind::path, "with the " + kind + " integrator (path only)"},
         {"--light-selection", integrator.kind != IntegratorKind::path, "with the " + kind + " integrator (path only)"},
+        {"--guiding", integrator.kind != IntegratorKind::path, "with the " + kind + " integrator (path only)"},
+        {"--guiding-field", integrator.kind != IntegratorKind::path || options.guiding != std::optional<bool>(true),
+         "without --guiding on and the path integrator"},
         {"--caustic-nee", integrator.kind != IntegratorKind::path || !scene.effects.caustic_spheres,
          "without the path integrator and a smooth glass sphere under an emitting sphere or quad"},
         {"--plane-nee", integrator.kind != IntegratorKind::path ||

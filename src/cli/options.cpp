@@ -69,7 +69,7 @@ const std::vector<std::string>& known_flags() {
         "--spectral-range", "--sensor", "--preview-interval", "--display-server", "--threads", "--tile", "--queue",
         "--schedule", "--seed",
         "--checkpoint", "--resume", "--checkpoint-interval", "--time-limit", "--wavelengths-per-path",
-        "--integrator", "--light-sampling", "--light-selection", "--caustic-nee", "--plane-nee", "--merge-radius", "--no-dispersion", "--no-bvh", "--strict", "--pass-spp", "--max-depth",
+        "--integrator", "--light-sampling", "--light-selection", "--guiding", "--guiding-field", "--caustic-nee", "--plane-nee", "--merge-radius", "--no-dispersion", "--no-bvh", "--strict", "--pass-spp", "--max-depth",
         "--passes", "--print-passes", "--sampler"};
     return flags;
 }
@@ -165,6 +165,17 @@ Options:
                          in proportion to power) or bvh (a light BVH: by likely contribution
                          to the shading point, each emitting triangle on its own; for scenes
                          with many lights). A scene with one light renders the same either way
+  --guiding on|off|auto path: path guiding (Mueller et al. 2017): the first samples learn
+                         where light comes from (a tree over space and direction, in
+                         iterations of 1, 2, 4, ... spp, up to half the samples) and later
+                         ones sample it beside the BSDF, each region of space choosing how
+                         often. auto (default) is off: at equal time it has not yet beaten
+                         plain path tracing in a measured scene (docs/GUIDING.md). Tiles
+                         schedule; no media or fluorescence; the specular chains
+                         (--caustic-nee) are off under it
+  --guiding-field F      luminance (default: one field of the wavelengths' mean radiance)
+                         or spectral (a field per quarter of the wavelength range, sampled
+                         at the hero wavelength's)
   --caustic-nee on|off   path with --light-sampling mis: specular next-event estimation
                          through smooth glass spheres and off shiny ones (caustics of
                          emitting spheres and quads under glass balls and reflected by
@@ -406,6 +417,18 @@ Options parse_options(const std::vector<std::string>& args) {
                 throw UsageError(flag + ": expected power or bvh, got '" + v + "'." +
                                  suggestion(v, light_selection_names()));
             o.light_selection = *mode;
+        } else if (flag == "--guiding") {
+            const std::string v = next_value();
+            if (v != "on" && v != "off" && v != "auto")
+                throw UsageError(flag + ": expected on, off or auto, got '" + v + "'." +
+                                 suggestion(v, {"on", "off", "auto"}));
+            o.guiding = v == "auto" ? std::nullopt : std::optional<bool>(v == "on");
+        } else if (flag == "--guiding-field") {
+            const std::string v = next_value();
+            if (v != "luminance" && v != "spectral")
+                throw UsageError(flag + ": expected luminance or spectral, got '" + v + "'." +
+                                 suggestion(v, {"luminance", "spectral"}));
+            o.guiding_field = v == "spectral" ? GuidingMode::spectral : GuidingMode::luminance;
         } else if (flag == "--caustic-nee") {
             const std::string v = next_value();
             if (v != "on" && v != "off")

@@ -50,6 +50,9 @@ struct Options {
     bool caustic_nee = true;       ///< --caustic-nee (path, light sampling mis)
     bool plane_nee = true;         ///< --plane-nee (path: sample emitting infinite planes)
     LightSelection light_selection = LightSelection::power;  ///< --light-selection (path)
+    /// --guiding: on, off, or unset for the automatic choice (cli/guiding_choice.h).
+    std::optional<bool> guiding;
+    GuidingMode guiding_field = GuidingMode::luminance;  ///< --guiding-field
     std::optional<SamplerKind> sampler;  ///< --sampler (default: default_sampler)
     bool dispersion = true;        ///< false: dispersive glass gets its mean index
     bool strict = false;           ///< every warning about the scene is an error (--strict)

@@ -34,6 +34,7 @@ RenderDescription describe_render(const Options& o, const RenderSettings& rs, co
     r.caustic_nee = rs.integrator.caustic_nee;
     r.plane_nee = rs.integrator.sample_planes;
     r.light_selection = rs.integrator.light_selection;
+    r.guiding = rs.guiding;
     r.dispersion = o.dispersion;
     r.merge_radius = rs.integrator.kind == IntegratorKind::vcm ? rs.integrator.merge_radius : 0.f;
     r.program = program_build_id();
@@ -56,6 +57,7 @@ RenderSettings settings_of(const RenderDescription& r) {
     rs.integrator.caustic_nee = r.caustic_nee;
     rs.integrator.sample_planes = r.plane_nee;
     rs.integrator.light_selection = r.light_selection;
+    rs.guiding = r.guiding;
     rs.integrator.merge_radius = r.merge_radius;
     return rs;
 }

@@ -57,6 +57,7 @@ std::string header(const CheckpointInfo& info, FilmFile kind) {
       << "caustic-nee " << on_off(r.caustic_nee) << '\n'
       << "plane-nee " << on_off(r.plane_nee) << '\n'
       << "light-selection " << light_selection_name(r.light_selection) << '\n'
+      << "guiding " << guiding_mode_name(r.guiding) << '\n'
       << "dispersion " << on_off(r.dispersion) << '\n'
       << "merge-radius " << radius << '\n'
       << "program " << hex(r.program) << '\n';
@@ -196,6 +197,7 @@ Parsed parse(const std::string& path, const std::string& bytes, FilmFile kind) {
         else if (key == "plane-nee") r.plane_nee = h.flag("plane-nee");
         else if (key == "light-selection")
             r.light_selection = h.name("light-selection", kLightSelectionModes, light_selection_name);
+        else if (key == "guiding") r.guiding = h.name("guiding", kGuidingModes, guiding_mode_name);
         else if (key == "dispersion") r.dispersion = h.flag("dispersion");
         else if (key == "merge-radius") r.merge_radius = h.non_negative("merge-radius");
         else if (key == "program") r.program = h.hex64("program");
@@ -265,6 +267,7 @@ std::string RenderDescription::difference(const RenderDescription& o) const {
     if (plane_nee != o.plane_nee) return differs("plane NEE", on_off(plane_nee), on_off(o.plane_nee));
     if (light_selection != o.light_selection)
         return differs("light selection", light_selection_name(light_selection), light_selection_name(o.light_selection));
+    if (guiding != o.guiding) return differs("guiding", guiding_mode_name(guiding), guiding_mode_name(o.guiding));
     if (dispersion != o.dispersion) return differs("dispersion", on_off(dispersion), on_off(o.dispersion));
     if (merge_radius != o.merge_radius) return differs("merge radius", merge_radius, o.merge_radius);
     for (const auto& [name, hash] : inputs) {

@@ -31,6 +31,8 @@ struct RenderDescription {
     bool caustic_nee = true, plane_nee = true, dispersion = true;
     /// Files without the field were rendered by power.
     LightSelection light_selection = LightSelection::power;
+    /// Files without the field were rendered without guiding.
+    GuidingMode guiding = GuidingMode::off;
     float merge_radius = 0.f;  ///< vcm's first-pass radius; 0: the default
     std::uint64_t program = 0;
     std::vector<std::pair<std::string, std::uint64_t>> inputs;

@@ -9,6 +9,8 @@
 #include "model/bsdfs/bsdf.h"
 #include "model/fluorescence.h"
 #include "render/direct_light.h"
+#include "render/guiding/guide_recorder.h"
+#include "render/guiding/guided_bounce.h"
 #include "render/light_context.h"
 #include "render/mis.h"
 #include "render/path_vertex.h"
@@ -54,12 +56,14 @@ namespace {
 /// its callees inlined into it, the shadow ray's offsets above all: as calls they cost a
 /// large share of the time per path); itself out of line, so the path loop stays small.
 /// kTextured: the scene has textures, and a light with an emission texture gives the
-/// texture's radiance at the sampled point.
-template <bool kTextured>
+/// texture's radiance at the sampled point. kGuided: the vertex continues by guided sampling
+/// (render/guiding/guided_bounce.h), whose mixture density `guide` gives the weight.
+template <bool kTextured, bool kGuided = false>
 [[gnu::noinline, gnu::flatten]] SampledSpectrum sample_area_light(
     const Scene& scene, const NeeLightChoice& choices, const Bsdf& bsdf, const Hit& hit,
     const LightSampleContext& ctx, const Vec3& wo, const SampledWavelengths& lambda, float time, float u_light,
-    float u1, float u2, bool mis, PathStats& stats) {
+    float u1, float u2, bool mis, PathStats& stats, [[maybe_unused]] const VertexGuide* guide = nullptr,
+    [[maybe_unused]] GuidingBug guiding_bug = GuidingBug::none) {
     float choice = 0.f;
     int triangle = -1;
     const int index = choices.sample(ctx, u_light, choice, triangle);
@@ -75,7 +79,9 @@ template <bool kTextured>
     if (shadow_blocked(scene, shadow, time)) return SampledSpectrum(0.f);
     const float pdf_light = choice * ls.pdf;
     if (!mis) return f_cos * ls.L / pdf_light;
-    const float pdf_bsdf = bsdf_pdf(bsdf, wo, ls.wi, hit.ns, lambda.lambda[0]);
+    float pdf_bsdf = bsdf_pdf(bsdf, wo, ls.wi, hit.ns, lambda.lambda[0]);
+    if constexpr (kGuided)
+        if (guiding_bug == GuidingBug::none) pdf_bsdf = guide->mixture_pdf(ls.wi, pdf_bsdf);
     return f_cos * ls.L * (power_heuristic(pdf_light, pdf_bsdf) / pdf_light);
 }
 
@@ -89,11 +95,15 @@ struct NoScratch {};
 /// SobolSampler (each number from its dimension of core/sample_dimensions.h). kFluorescent
 /// (scenes with Effects::fluorescence): fluorescent vertices reflect or re-emit
 /// (model/fluorescence.h), which changes the path's wavelengths; the film's are restored at
-/// the end. Each flag off compiles its code away, so the scenes without it pay nothing for it.
-template <bool kTextured, bool kCaustic, bool kFluorescent, class Sampler>
+/// the end. kGuided (path guiding, render/guiding/): vertices with a non-delta lobe sample
+/// the mixture of the learned field and the BSDF where the field has learnt something, and
+/// training samples record what they find into it (render/guiding/guide_recorder.h). Each
+/// flag off compiles its code away, so the scenes without it pay nothing for it.
+template <bool kTextured, bool kCaustic, bool kFluorescent, bool kGuided, class Sampler>
 [[gnu::always_inline]] inline SampledSpectrum path_loop(const Scene& scene, const IntegratorSettings& settings,
                                                         Ray ray, float time, SampledWavelengths& lambda,
-                                                        Sampler& rng, PathStats& stats) {
+                                                        Sampler& rng, PathStats& stats,
+                                                        [[maybe_unused]] const PathGuide& guide = {}) {
     // Where a textured material's BSDF is made at each hit (kept across bounces: no allocation).
     [[maybe_unused]] std::conditional_t<kTextured, Bsdf, NoScratch> scratch;
     SampledSpectrum L(0.f), beta(1.f);
@@ -106,6 +116,10 @@ template <bool kTextured, bool kCaustic, bool kFluorescent, class Sampler>
     EmissionMis mis;
     [[maybe_unused]] std::conditional_t<kCaustic, SphereChainNee, NoScratch> chains;
     [[maybe_unused]] const std::array<float, kLambdaCount> film_lambda = lambda.lambda;
+    // Guiding: the radiance the training records see (emission unweighted), and its vertices.
+    [[maybe_unused]] std::conditional_t<kGuided, SampledSpectrum, NoScratch> guide_radiance;
+    [[maybe_unused]] std::conditional_t<kGuided, GuideRecorder, NoScratch> recorder;
+    if constexpr (kGuided) guide_radiance = SampledSpectrum(0.f);
     for (int depth = 0;; ++depth) {
         // ---- Find the next vertex; escaping rays see the infinite lights ----
         ++stats.rays;
@@ -113,7 +127,9 @@ template <bool kTextured, bool kCaustic, bool kFluorescent, class Sampler>
         if (!hit) {
             for (int i : scene.infinite_light_indices) {
                 const float w = mis.weight(scene, choices, i, ray.d, nullptr);
-                L += beta * light_arriving(scene.lights[i], ray.d, lambda) * w;
+                const SampledSpectrum arriving = beta * light_arriving(scene.lights[i], ray.d, lambda);
+                L += arriving * w;
+                if constexpr (kGuided) guide_radiance += arriving;
             }
             break;
         }
@@ -125,7 +141,9 @@ template <bool kTextured, bool kCaustic, bool kFluorescent, class Sampler>
             float w = mis.weight(scene, choices, hit->light, ray.d, &*hit);
             if constexpr (kCaustic)
                 w = chains.emission_weight(scene, *hit, hit->light, lambda, settings.caustic_nee_bug, w);
-            L += beta * scene.emitted<kTextured>(*hit, wo, lambda) * w;
+            const SampledSpectrum emitted = beta * scene.emitted<kTextured>(*hit, wo, lambda);
+            L += emitted * w;
+            if constexpr (kGuided) guide_radiance += emitted;
         }
         if (!mat.reflects() || depth == settings.max_depth) break;
         const Bsdf* bsdf_at_hit = &mat.bsdf;
@@ -141,15 +159,37 @@ template <bool kTextured, bool kCaustic, bool kFluorescent, class Sampler>
         SampledSpectrum surface_beta = beta;
         if constexpr (kFluorescent)
             if (mat.fluorescence) surface_beta *= mat.fluorescence->passed(lambda);
+        // The guide at this vertex (its distribution, if it has one, and its leaf for records).
+        [[maybe_unused]] std::conditional_t<kGuided, VertexGuide, NoScratch> vertex_guide;
+        if constexpr (kGuided)
+            if (non_delta && (guide.sample || guide.record)) {
+                const Vec3 side = dot(wo, hit->ns) >= 0.f ? hit->ns : -hit->ns;
+                const bool reflects_only = !bsdf_flags(bsdf).has(BsdfFlags::transmission);
+                vertex_guide = VertexGuide(*guide.field, hit->p, lambda.lambda[0], guide.sample, guide.record,
+                                           reflects_only ? &side : nullptr);
+            }
+        [[maybe_unused]] const SampledSpectrum radiance_before = L;
         if (point_nee && non_delta) L += surface_beta * sample_point_lights(scene, bsdf, *hit, wo, lambda, time, stats);
         LightSampleContext ctx;
         if (area_nee && non_delta) {
             ctx = light_context(*hit, mat, wo);
             seek_dimension(rng, dims::bounce(depth, dims::kLightChoice));
             const float ul = rng.uniform(), ul1 = rng.uniform(), ul2 = rng.uniform();
-            L += surface_beta * sample_area_light<kTextured>(scene, choices, bsdf, *hit, ctx, wo, lambda, time, ul, ul1,
-                                                             ul2, settings.light_sampling == LightSampling::mis, stats);
+            const bool with_mis = settings.light_sampling == LightSampling::mis;
+            if constexpr (kGuided) {
+                if (vertex_guide.usable())
+                    L += surface_beta * sample_area_light<kTextured, true>(scene, choices, bsdf, *hit, ctx, wo, lambda,
+                                                                           time, ul, ul1, ul2, with_mis, stats,
+                                                                           &vertex_guide, settings.guiding_bug);
+                else
+                    L += surface_beta * sample_area_light<kTextured>(scene, choices, bsdf, *hit, ctx, wo, lambda, time,
+                                                                     ul, ul1, ul2, with_mis, stats);
+            } else {
+                L += surface_beta * sample_area_light<kTextured>(scene, choices, bsdf, *hit, ctx, wo, lambda, time, ul,
+                                                                 ul1, ul2, with_mis, stats);
+            }
         }
+        if constexpr (kGuided) guide_radiance += L - radiance_before;
         if constexpr (kCaustic)
             chains.sample(scene, settings, non_delta, depth, bsdf, *hit, wo, lambda, time, rng, beta, L, stats);
 
@@ -179,9 +219,22 @@ template <bool kTextured, bool kCaustic, bool kFluorescent, class Sampler>
             }
 
         // ---- Continue the path: sample the BSDF, carry f·cos/p ----
-        const std::optional<BsdfSample> bs = sample_bounce(kFluorescent ? *scatter : bsdf, *hit, wo, lambda, depth, rng);
+        std::optional<BsdfSample> bs;
+        [[maybe_unused]] std::conditional_t<kGuided, GuidedDensities, NoScratch> densities;
+        if constexpr (kGuided) {
+            if (vertex_guide.usable())
+                bs = sample_guided_bounce(bsdf, *hit, wo, lambda, depth, vertex_guide, rng, densities);
+            else bs = sample_bounce(bsdf, *hit, wo, lambda, depth, rng);
+        } else {
+            bs = sample_bounce(kFluorescent ? *scatter : bsdf, *hit, wo, lambda, depth, rng);
+        }
         if (!bs) break;
+        [[maybe_unused]] const SampledSpectrum beta_before = beta;
         beta *= bs->weight;
+        if constexpr (kGuided)
+            if (guide.record && !bs->is_delta())
+                recorder.add(vertex_guide.leaf(), bs->wi, bs->pdf, beta, guide_radiance,
+                             vertex_guide.usable() ? &densities : nullptr, beta_before);
         eta_scale *= bs->eta_scale;
         if constexpr (kCaustic) chains.follow(scene, *bs, *hit, wo);
         ray = spawn_ray(*hit, bs->wi);
@@ -191,6 +244,8 @@ template <bool kTextured, bool kCaustic, bool kFluorescent, class Sampler>
         if (!survives_roulette(settings, depth, [&] { return beta.max_value() * eta_scale; }, beta, rng)) break;
     }
     if constexpr (kFluorescent) lambda.lambda = film_lambda;
+    if constexpr (kGuided)
+        if (guide.record) recorder.finish(*guide.field, guide_radiance, lambda);
     return L;
 }
 
@@ -199,8 +254,8 @@ template <class Sampler>
                                                 float time, SampledWavelengths& lambda, Sampler& rng,
                                                 PathStats& stats) {
     if (scene.effects.caustic_spheres && settings.caustic_nee && settings.light_sampling == LightSampling::mis)
-        return path_loop<true, true, false>(scene, settings, ray, time, lambda, rng, stats);
-    return path_loop<true, false, false>(scene, settings, ray, time, lambda, rng, stats);
+        return path_loop<true, true, false, false>(scene, settings, ray, time, lambda, rng, stats);
+    return path_loop<true, false, false, false>(scene, settings, ray, time, lambda, rng, stats);
 }
 
 /// Scenes with spheres for the specular chains, out of line like the textured loop: the
@@ -209,7 +264,7 @@ template <class Sampler>
 [[gnu::noinline]] SampledSpectrum caustic_path(const Scene& scene, const IntegratorSettings& settings, Ray ray,
                                                float time, SampledWavelengths& lambda, Sampler& rng,
                                                PathStats& stats) {
-    return path_loop<false, true, false>(scene, settings, ray, time, lambda, rng, stats);
+    return path_loop<false, true, false, false>(scene, settings, ray, time, lambda, rng, stats);
 }
 
 /// Scenes with fluorescent materials, out of line too; textured or not (the textured loop
@@ -219,10 +274,32 @@ template <class Sampler>
 [[gnu::noinline]] SampledSpectrum fluorescent_path(const Scene& scene, const IntegratorSettings& settings, Ray ray,
                                                    float time, SampledWavelengths& lambda, Sampler& rng,
                                                    PathStats& stats) {
-    return path_loop<true, false, true>(scene, settings, ray, time, lambda, rng, stats);
+    return path_loop<true, false, true, false>(scene, settings, ray, time, lambda, rng, stats);
+}
+
+/// Guided paths (render/guiding/), out of line too; textured or not, without the specular
+/// chains (their MIS weights assume BSDF sampling) and fluorescence (the renderer refuses it).
+template <class Sampler>
+[[gnu::noinline]] SampledSpectrum guided_path(const Scene& scene, const IntegratorSettings& settings, Ray ray,
+                                              float time, SampledWavelengths& lambda, Sampler& rng, PathStats& stats,
+                                              const PathGuide& guide) {
+    if (scene.effects.textures)
+        return path_loop<true, false, false, true>(scene, settings, ray, time, lambda, rng, stats, guide);
+    return path_loop<false, false, false, true>(scene, settings, ray, time, lambda, rng, stats, guide);
 }
 
 }  // namespace
+
+SampledSpectrum trace_guided_path(const Scene& scene, const IntegratorSettings& settings, Ray ray, float time,
+                                  SampledWavelengths& lambda, Rng& rng, PathStats& stats, const PathGuide& guide) {
+    return guided_path(scene, settings, ray, time, lambda, rng, stats, guide);
+}
+
+SampledSpectrum trace_guided_path(const Scene& scene, const IntegratorSettings& settings, Ray ray, float time,
+                                  SampledWavelengths& lambda, SobolSampler& sampler, PathStats& stats,
+                                  const PathGuide& guide) {
+    return guided_path(scene, settings, ray, time, lambda, sampler, stats, guide);
+}
 
 // Inlined into the renderer's sample loop at link time (LTO builds): the ray, wavelengths and
 // random state then stay in registers instead of passing through memory, and the loop is
@@ -238,7 +315,7 @@ template <class Sampler>
     if (scene.effects.textures) [[unlikely]] return textured_path(scene, settings, ray, time, lambda, rng, stats);
     if (scene.effects.caustic_spheres && settings.caustic_nee && settings.light_sampling == LightSampling::mis)
         [[unlikely]] return caustic_path(scene, settings, ray, time, lambda, rng, stats);
-    return path_loop<false, false, false>(scene, settings, ray, time, lambda, rng, stats);
+    return path_loop<false, false, false, false>(scene, settings, ray, time, lambda, rng, stats);
 }
 #pragma GCC diagnostic pop
 
@@ -251,7 +328,7 @@ template <class Sampler>
     if (scene.effects.textures) [[unlikely]] return textured_path(scene, settings, ray, time, lambda, sampler, stats);
     if (scene.effects.caustic_spheres && settings.caustic_nee && settings.light_sampling == LightSampling::mis)
         [[unlikely]] return caustic_path(scene, settings, ray, time, lambda, sampler, stats);
-    return path_loop<false, false, false>(scene, settings, ray, time, lambda, sampler, stats);
+    return path_loop<false, false, false, false>(scene, settings, ray, time, lambda, sampler, stats);
 }
 
 }  // namespace spt

@@ -20,6 +20,10 @@ namespace spt {
 /// (reflection chain) the Fresnel reflectance taken from the inside of the ball (1/η).
 enum class CausticNeeBug : std::uint8_t { none, no_bsdf_side_weight, no_cos_y, wrong_reflectance };
 
+/// A planted bug of path guiding, for its tests only: next-event estimation weighted against
+/// the BSDF's density instead of the guided mixture's (render/guiding/guided_bounce.h).
+enum class GuidingBug : std::uint8_t { none, nee_weight_without_guide };
+
 struct IntegratorSettings {
     static constexpr int kUnbounded = -1;
     IntegratorKind kind = IntegratorKind::path;
@@ -53,6 +57,7 @@ struct IntegratorSettings {
     /// (render/reflection_nee.h) in scenes that have them (Effects::caustic_spheres).
     bool caustic_nee = true;
     CausticNeeBug caustic_nee_bug = CausticNeeBug::none;  ///< tests only
+    GuidingBug guiding_bug = GuidingBug::none;            ///< tests only
 };
 
 struct PathStats {
@@ -69,5 +74,16 @@ SampledSpectrum trace_path(const Scene& scene, const IntegratorSettings& setting
 /// random number from its dimension of core/sample_dimensions.h.
 SampledSpectrum trace_path(const Scene& scene, const IntegratorSettings& settings, Ray ray, float time,
                            SampledWavelengths& lambda, SobolSampler& sampler, PathStats& stats);
+
+struct PathGuide;  // render/guiding/guided_bounce.h
+
+/// trace_path with path guiding (render/guiding/): vertices with a non-delta lobe sample the
+/// mixture of `guide.field` and the BSDF, and, when guide.record, the path records into the
+/// field what it found. Not for scenes with fluorescence; the specular chains are not used.
+SampledSpectrum trace_guided_path(const Scene& scene, const IntegratorSettings& settings, Ray ray, float time,
+                                  SampledWavelengths& lambda, Rng& rng, PathStats& stats, const PathGuide& guide);
+SampledSpectrum trace_guided_path(const Scene& scene, const IntegratorSettings& settings, Ray ray, float time,
+                                  SampledWavelengths& lambda, SobolSampler& sampler, PathStats& stats,
+                                  const PathGuide& guide);
 
 }  // namespace spt

@@ -28,6 +28,10 @@ enum class LightSampling { mis, bsdf, light };
 /// render/light_bvh.h). A scene with one light to choose from samples it either way.
 enum class LightSelection { power, bvh };
 
+/// Path guiding (render/guiding/): off, or a learned field of luminance or of radiance per
+/// wavelength band.
+enum class GuidingMode { off, luminance, spectral };
+
 /// The command-line name of an integrator.
 constexpr const char* integrator_name(IntegratorKind kind) {
     switch (kind) {
@@ -52,9 +56,20 @@ constexpr const char* light_selection_name(LightSelection mode) {
     return mode == LightSelection::bvh ? "bvh" : "power";
 }
 
+/// The name of a guiding mode (as checkpoints record it).
+constexpr const char* guiding_mode_name(GuidingMode mode) {
+    switch (mode) {
+        case GuidingMode::luminance: return "luminance";
+        case GuidingMode::spectral: return "spectral";
+        case GuidingMode::off: break;
+    }
+    return "off";
+}
+
 inline constexpr IntegratorKind kIntegratorKinds[] = {IntegratorKind::path, IntegratorKind::bdpt, IntegratorKind::vcm};
 inline constexpr LightSampling kLightSamplingModes[] = {LightSampling::mis, LightSampling::bsdf, LightSampling::light};
 inline constexpr LightSelection kLightSelectionModes[] = {LightSelection::power, LightSelection::bvh};
+inline constexpr GuidingMode kGuidingModes[] = {GuidingMode::off, GuidingMode::luminance, GuidingMode::spectral};
 
 /// The value whose name is `name` (ignoring case), or nullopt. Use: name_lookup(kIntegratorKinds,
 /// integrator_name, text).

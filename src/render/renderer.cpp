@@ -12,6 +12,7 @@
 
 #include "core/sample_dimensions.h"
 #include "render/bdpt.h"
+#include "render/guiding/guided_bounce.h"
 #include "render/light_sampling.h"
 #include "render/pixel_sample.h"
 #include "render/vertex_merging.h"
@@ -31,6 +32,9 @@ struct TileTask {
     bool light_subpaths = false;
     /// The wavefront schedule: chunk `index` of its current stage (nothing else is set)
     bool wavefront_chunk = false;
+    /// Guided renders: samples before the first one asked for, traced again only to rebuild
+    /// the field (their film is a scratch one)
+    bool replay = false;
 };
 
 /// Merges the tiles' splats into the film in tile order, whichever thread finishes which
@@ -294,6 +298,54 @@ void render_pixel(const Scene& scene, const RenderSettings& settings, const Came
     }, settings, camera, x, y, first_sample, end_sample, film);
 }
 
+namespace {
+
+/// render_pixel with path guiding: each sample samples and records as `guide` says.
+void render_pixel_guided(const Scene& scene, const RenderSettings& settings, const Camera& camera, int x, int y,
+                         int first_sample, int end_sample, Film& film, PathStats& stats, const PathGuide& guide) {
+    if (settings.sampler == SamplerKind::sobol) {
+        render_samples<SobolSampler>([&](const Ray& ray, float time, SampledWavelengths& lambda, SobolSampler& sampler) {
+            return trace_guided_path(scene, settings.integrator, ray, time, lambda, sampler, stats, guide);
+        }, settings, camera, x, y, first_sample, end_sample, film);
+        return;
+    }
+    render_samples<Rng>([&](const Ray& ray, float time, SampledWavelengths& lambda, Rng& rng) {
+        return trace_guided_path(scene, settings.integrator, ray, time, lambda, rng, stats, guide);
+    }, settings, camera, x, y, first_sample, end_sample, film);
+}
+
+/// Stream of the guiding pilot's paths.
+constexpr std::uint64_t kGuidingPilotStream = 0x2f4a7b1c93d5e861ull;
+
+}  // namespace
+
+const char* guiding_unsupported(const Scene& scene, const RenderSettings& settings) {
+    if (settings.integrator.kind != IntegratorKind::path) return "the path integrator";
+    if (scene.effects.media) return "a scene without participating media";
+    if (scene.effects.fluorescence) return "a scene without fluorescence";
+    if (settings.schedule != Schedule::tiles) return "the tiles schedule";
+    return nullptr;
+}
+
+double guiding_pilot_radiance(const Scene& scene, const RenderSettings& settings) {
+    constexpr int kSide = 64;
+    const Camera camera(scene.camera, settings.width, settings.height, scene.effects.motion_blur);
+    RenderSettings pilot = settings;
+    pilot.seed ^= kGuidingPilotStream;
+    PathStats stats;
+    double sum = 0;
+    for (int j = 0; j < kSide; ++j)
+        for (int i = 0; i < kSide; ++i) {
+            const int x = (2 * i + 1) * settings.width / (2 * kSide), y = (2 * j + 1) * settings.height / (2 * kSide);
+            PixelSample ps = start_pixel_sample<Rng>(pixel_stream(pilot, x, y), x, y, 0, pilot, camera);
+            const SampledSpectrum L =
+                trace_path(scene, settings.integrator, ps.ray(camera), ps.time, ps.lambda, ps.rng, stats);
+            const double mean = L.average();
+            if (std::isfinite(mean) && mean > 0) sum += mean;
+        }
+    return sum / (kSide * kSide);
+}
+
 RenderStats render(const Scene& scene, const RenderSettings& settings, Film& film,
                    const RenderHooks& hooks) {
     const ProgressCallback& progress = hooks.progress;
@@ -348,6 +400,45 @@ RenderStats render(const Scene& scene, const RenderSettings& settings, Film& fil
             throw std::invalid_argument(std::string("the wavefront schedule does not support ") + feature);
         wavefront.emplace(scene, settings, camera, film);
     }
+    // Path guiding: the field, the ends of its iterations, and what the pass in flight does
+    // with it (set by the producer before it queues a pass's tiles).
+    std::optional<GuidingField> field;
+    std::vector<int> iteration_ends;
+    PathGuide pass_guide;
+    std::optional<Film> scratch;  // the film of replayed samples
+    if (settings.guiding != GuidingMode::off) {
+        if (const char* needs = guiding_unsupported(scene, settings))
+            throw std::invalid_argument(std::string("path guiding needs ") + needs);
+        const int channels = settings.guiding == GuidingMode::spectral ? kGuideBands : 1;
+        field.emplace(scene.bounds_center, scene.bounds_radius, channels);
+        // The unit resolves 2^-24 of the scene's mean radiance (or of 1 if the pilot found none).
+        const double mean = guiding_pilot_radiance(scene, settings);
+        field->set_unit((mean > 0 ? mean : 1.0) * 0x1p-24);
+        iteration_ends = guiding_iteration_ends(settings.spp);
+        if (first_sample > 0) scratch.emplace(settings.width, settings.height, film.observer());
+    }
+    // The end of the iteration that sample s belongs to, and whether it is a training one.
+    auto iteration_end = [&](int s) {
+        for (int end : iteration_ends)
+            if (s < end) return end;
+        return settings.spp;
+    };
+    auto training = [&](int s) { return iteration_ends.size() > 1 && s < iteration_ends[iteration_ends.size() - 2]; };
+    // Samples before first_sample are replayed (guided renders only).
+    const int replay_from = field ? 0 : first_sample;
+    // The end of the pass that starts at sample `first`: passes stop at the end of an
+    // iteration and at first_sample.
+    auto pass_end = [&](int first) {
+        int end = std::min(end_sample, first + pass_spp);
+        if (field) end = std::min(end, iteration_end(first));
+        if (first < first_sample) end = std::min(end, first_sample);
+        return end;
+    };
+    if (field) {
+        stats.passes_total = 0;
+        for (int s = first_sample; s < end_sample; s = pass_end(s)) ++stats.passes_total;
+    }
+
     PassLatch latch;
     std::atomic<std::uint64_t> rays{0};
     auto cancelled = [&] { return cancel && cancel->load(std::memory_order_relaxed); };
@@ -378,6 +469,12 @@ RenderStats render(const Scene& scene, const RenderSettings& settings, Film& fil
                             for (int x = task->x0; x < task->x1; ++x)
                                 render(*bidir, settings, x, y, task->first_sample, task->end_sample, film, local,
                                        splats);
+                    } else if (field) {
+                        Film& target = task->replay ? *scratch : film;
+                        for (int y = task->y0; y < task->y1; ++y)
+                            for (int x = task->x0; x < task->x1; ++x)
+                                render_pixel_guided(scene, settings, camera, x, y, task->first_sample,
+                                                    task->end_sample, target, local, pass_guide);
                     } else {
                         for (int y = task->y0; y < task->y1; ++y)
                             for (int x = task->x0; x < task->x1; ++x)
@@ -396,9 +493,12 @@ RenderStats render(const Scene& scene, const RenderSettings& settings, Film& fil
 
     // Producer: one pass at a time, so a pixel never gets samples out of order.
     double seconds_per_spp = 0;  // pace of the last pass
-    for (int first = first_sample; first < end_sample && !cancelled();) {
+    std::uint64_t replayed_paths = 0;  // paths of replayed samples (not this run's work)
+    for (int first = replay_from; first < end_sample && !cancelled();) {
         const auto pass_start = std::chrono::steady_clock::now();
-        const int end = std::min(end_sample, first + pass_spp);
+        const int end = pass_end(first);
+        const bool replay = first < first_sample;
+        if (field) pass_guide = {&*field, field->iterations() > 0, training(first)};
         if (settings.time_limit > 0 && first > first_sample) {
             const double elapsed = std::chrono::duration<double>(pass_start - start).count();
             if (elapsed + seconds_per_spp * (end - first) > settings.time_limit) {
@@ -413,7 +513,7 @@ RenderStats render(const Scene& scene, const RenderSettings& settings, Film& fil
             merger.reset(tasks);
             vcm_passes->queue_light_tasks(first, queue);
             while (!latch.wait_for(tasks, std::chrono::milliseconds(200)))
-                if (progress) progress(latch.paths(), total_paths);
+                if (progress) progress(latch.paths() - replayed_paths, total_paths);
             if (cancelled()) break;
             vcm_passes->build_grid();
         }
@@ -428,7 +528,7 @@ RenderStats render(const Scene& scene, const RenderSettings& settings, Film& fil
                 latch.reset();
                 queue.push(tasks);
                 while (!latch.wait_for(chunks, std::chrono::milliseconds(200)))
-                    if (progress) progress(latch.paths(), total_paths);
+                    if (progress) progress(latch.paths() - replayed_paths, total_paths);
             }
         } else {
             latch.reset();
@@ -437,12 +537,22 @@ RenderStats render(const Scene& scene, const RenderSettings& settings, Film& fil
             for (int k = 0; k < grid.count(); ++k) {
                 const TileRect r = grid.tile(k);
                 tiles[static_cast<std::size_t>(k)] = {r.x0, r.y0, r.x1, r.y1, first, end, k};
+                tiles[static_cast<std::size_t>(k)].replay = replay;
             }
             queue.push(tiles);
             while (!latch.wait_for(grid.count(), std::chrono::milliseconds(200)))
-                if (progress) progress(latch.paths(), total_paths);
+                if (progress && !replay) progress(latch.paths() - replayed_paths, total_paths);
         }
         if (cancelled()) break;
+        if (field && training(first) && end == iteration_end(first)) {
+            const int iteration = field->iterations();
+            field->end_iteration(end - (iteration == 0 ? 0 : iteration_ends[static_cast<std::size_t>(iteration) - 1]));
+        }
+        if (replay) {
+            replayed_paths = latch.paths();
+            first = end;
+            continue;
+        }
         if (film.has_splats() && next_chunk_end(settings, end - 1) == end) film.fold_splats();
         ++stats.passes_completed;
         stats.samples_completed = end;
@@ -460,7 +570,7 @@ RenderStats render(const Scene& scene, const RenderSettings& settings, Film& fil
     queue.close();
     for (std::thread& w : workers) w.join();
 
-    stats.paths = latch.paths();
+    stats.paths = latch.paths() - replayed_paths;
     stats.rays = rays.load();
     stats.cancelled = cancelled() && stats.samples_completed < end_sample;
     stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -7,6 +7,7 @@
 #include <optional>
 
 #include "render/film.h"
+#include "render/guiding/guiding_schedule.h"
 #include "render/integrator.h"
 #include "render/sampler_kind.h"
 #include "render/tile_grid.h"
@@ -48,6 +49,9 @@ struct RenderSettings {
     IntegratorSettings integrator;
     /// The random numbers of each path sample (the command line chooses default_sampler).
     SamplerKind sampler = SamplerKind::independent;
+    /// Path guiding (render/guiding/): path integrator, tiles schedule, no media or
+    /// fluorescence. The image depends on it, not on the threads or the passes.
+    GuidingMode guiding = GuidingMode::off;
     /// Set only for spectral output beyond 360-830 nm (path integrator): wavelengths are then
     /// drawn from this wider density instead of the visible one.
     std::optional<WideWavelengthSampling> wide_wavelengths;
@@ -94,6 +98,14 @@ struct RenderHooks {
 /// whole passes plus part of one, each pixel with its own sample count.
 RenderStats render(const Scene& scene, const RenderSettings& settings, Film& film,
                    const RenderHooks& hooks = {});
+
+/// Why a render cannot be guided (what it needs instead, e.g. "the path integrator"), or null.
+const char* guiding_unsupported(const Scene& scene, const RenderSettings& settings);
+
+/// The mean radiance of 4096 unguided paths of the path integrator through pixels spread
+/// evenly over the image (traced in order on the calling thread: the result does not depend
+/// on the threads), the guiding field's scale (render/guiding/guiding_field.h).
+double guiding_pilot_radiance(const Scene& scene, const RenderSettings& settings);
 
 /// Renders one pixel's samples [first, end) into the film (the unit every path takes).
 void render_pixel(const Scene& scene, const RenderSettings& settings, const Camera& camera, int x,

@@ -1,0 +1,26 @@
+#include "cli/guiding_choice.h"
+
+namespace spt {
+
+GuidingChoice choose_guiding(const Options& options, const Scene& scene, RenderSettings& settings) {
+    GuidingChoice c;
+    if (!options.guiding) {
+        c.reason = "auto: off, guiding has not yet paid at equal time in a measured scene (docs/GUIDING.md)";
+        return c;
+    }
+    if (!*options.guiding) {
+        c.reason = "--guiding off";
+        return c;
+    }
+    if (const char* needs = guiding_unsupported(scene, settings))
+        throw UsageError(std::string("--guiding on: scene '") + scene.name +
+                         "' with these settings; expected " + needs);
+    const bool chains = scene.effects.caustic_spheres && settings.integrator.caustic_nee &&
+                        settings.integrator.light_sampling == LightSampling::mis;
+    c.mode = options.guiding_field;
+    c.reason = chains ? "--guiding on; the specular chains are off with it" : "--guiding on";
+    if (chains) settings.integrator.caustic_nee = false;
+    return c;
+}
+
+}  // namespace spt
