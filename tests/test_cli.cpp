@@ -197,6 +197,8 @@ TEST_F(Cli, BadArgumentsExitTwoWithOneLineNamingTheFlag) {
         {{"--max-depth", "-2"}, {"--max-depth"}},
         {{"--exposure", "nan"}, {"--exposure"}},
         {{"--tonemap", "filmic"}, {"--tonemap", "filmic", "neutral"}},
+        {{"--guiding", "maybe"}, {"--guiding", "maybe", "auto"}},
+        {{"--guiding-field", "rgb"}, {"--guiding-field", "rgb", "spectral"}},
         {{"--auto-exposure=yes"}, {"--auto-exposure"}},
         {{"--white-balance", "D66"}, {"--white-balance", "D66", "25000K"}},
         {{"--white-balance", "500K"}, {"--white-balance", "500K"}},
@@ -451,6 +453,26 @@ TEST_F(Cli, SummaryNamesTheIntegratorForMissedCaustics) {
     const RunResult diffuse = run({"diffuse.json", "-o", "a.pfm"});
     ASSERT_EQ(diffuse.exit_code, 0) << diffuse.err;
     EXPECT_EQ(diffuse.err.find("note:"), std::string::npos) << diffuse.err;
+}
+
+/// The summary says whether the render was guided and why; --guiding on where the path
+/// integrator cannot be guided is refused before anything is written, naming what it needs.
+TEST_F(Cli, GuidingIsReportedAndRefusedWhereUnsupported) {
+    const RunResult plain = run({"--width", "8", "--height", "8", "--spp", "2", "-o", "a.pfm"});
+    ASSERT_EQ(plain.exit_code, 0) << plain.err;
+    EXPECT_NE(plain.err.find("guiding off (auto: "), std::string::npos) << plain.err;
+    const RunResult guided =
+        run({"--width", "8", "--height", "8", "--spp", "4", "--guiding", "on", "--guiding-field", "spectral", "-o", "g.pfm"});
+    ASSERT_EQ(guided.exit_code, 0) << guided.err;
+    EXPECT_NE(guided.err.find("guiding spectral (--guiding on)"), std::string::npos) << guided.err;
+    const RunResult fog = run({"cornell-fog", "--width", "8", "--height", "8", "--guiding", "on", "-o", "f.pfm"});
+    EXPECT_EQ(fog.exit_code, 2);
+    EXPECT_NE(fog.err.find("expected a scene without participating media"), std::string::npos) << fog.err;
+    EXPECT_FALSE(std::filesystem::exists(m_dir / "f.pfm"));
+    const RunResult bdpt = run({"--integrator", "bdpt", "--width", "8", "--height", "8", "--spp", "1", "--guiding",
+                                "on", "-o", "b.pfm"});
+    ASSERT_EQ(bdpt.exit_code, 0) << bdpt.err;
+    EXPECT_NE(bdpt.err.find("--guiding has no effect with the bdpt integrator"), std::string::npos) << bdpt.err;
 }
 
 /// --no-bvh measures what the BVH buys: refused, before anything is written, for a shape that

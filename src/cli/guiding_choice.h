@@ -14,10 +14,11 @@ namespace spt {
 
 struct GuidingChoice {
     GuidingMode mode = GuidingMode::off;
-    std::string reason;  ///< for the summary: "--guiding on", "auto: off, ..."
+    std::string reason;  ///< for the summary: "--guiding on", "auto: it has not yet paid ..."
 };
 
-/// Throws UsageError for --guiding on where guiding is not supported. With guiding on, the
+/// Throws UsageError for --guiding on where the path integrator cannot be guided (another
+/// integrator ignores the flag, with a warning). With guiding on, the
 /// specular chains (caustic_nee) are turned off in `settings`: their MIS weights assume
 /// BSDF sampling.
 GuidingChoice choose_guiding(const Options& options, const Scene& scene, RenderSettings& settings);
