@@ -356,7 +356,7 @@ inline unsigned lanes_to_test(const BvhLeafPacket& packet, unsigned valid, const
 /// than the caches spends most of its time waiting on these loads, and asked for all at once
 /// they arrive together instead of one after another.
 inline void prefetch_child(std::uint32_t ref, const WideBvhNode* nodes, const BvhLeafPacket* leaves) {
-    const char* p = (ref & 15u) == 0 ? reinterpret_cast<const char*>(nodes + (ref >> 4))
+    const char* p = (ref & kCountMask) == 0 ? reinterpret_cast<const char*>(nodes + (ref >> 4))
                                      : reinterpret_cast<const char*>(leaves + (ref >> 4));
     for (int line = 0; line < 4; ++line) __builtin_prefetch(p + 64 * line);
 }
