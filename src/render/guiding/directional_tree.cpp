@@ -184,16 +184,23 @@ DirectionalTree DirectionalTree::refined(double rho) const {
     return out;
 }
 
+std::array<double, 4> DirectionalTree::child_weights(std::uint32_t first, int c, const Vec3* side) const {
+    return {weight(first, c, side), weight(first + 1, c, side), weight(first + 2, c, side),
+            weight(first + 3, c, side)};
+}
+
 SquarePoint DirectionalTree::sample(int c, double u1, double u2, float& pdf, const Vec3* side) const {
-    double scale = 1;  // product of 4·(child energy / node energy) along the way
+    double scale = 1;  // product of 4·(child weight / children's total weight) along the way
     SquarePoint origin;
     double size = 1;
     std::uint32_t n = 0;
     while (!m_nodes[n].leaf()) {
         const std::uint32_t first = m_nodes[n].first_child;
-        const double e[4] = {weight(first, c, side), weight(first + 1, c, side), weight(first + 2, c, side),
-                             weight(first + 3, c, side)};
+        const std::array<double, 4> e = child_weights(first, c, side);
         const double total = e[0] + e[1] + e[2] + e[3];
+        // Children that all weigh 0 (a region wholly below `side`, reached because the parent's
+        // cone bound is looser than theirs): the node is sampled as a leaf; pdf() stops there too.
+        if (!(total > 0)) break;
         // The half in u, then the quadrant in v within it.
         const double left = e[0] + e[2];
         int x = 0;
@@ -231,9 +238,9 @@ float DirectionalTree::pdf(int c, const SquarePoint& point, const Vec3* side) co
     std::uint32_t n = 0;
     while (!m_nodes[n].leaf()) {
         const std::uint32_t first = m_nodes[n].first_child;
-        const double e[4] = {weight(first, c, side), weight(first + 1, c, side), weight(first + 2, c, side),
-                             weight(first + 3, c, side)};
+        const std::array<double, 4> e = child_weights(first, c, side);
         const double total = e[0] + e[1] + e[2] + e[3];
+        if (!(total > 0)) break;  // sampled as a leaf (see sample())
         const int q = descend(s);
         scale *= 4 * e[q] / total;
         if (scale == 0) return 0.f;

@@ -103,6 +103,8 @@ private:
     /// The weight of a node in a descent: its energy, times the largest clamped cosine with
     /// `side` over its cone when given.
     float weight(std::uint32_t node, int c, const Vec3* side) const;
+    /// The weights of the four children from `first`, as sample() and pdf() descend.
+    std::array<double, 4> child_weights(std::uint32_t first, int c, const Vec3* side) const;
     /// Appends four leaves as the children of `node`.
     void subdivide(std::uint32_t node);
 

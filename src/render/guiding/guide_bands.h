@@ -10,13 +10,16 @@ namespace spt {
 
 inline constexpr int kGuideBands = kLambdaCount;
 
-/// The band of a wavelength (0 to kGuideBands − 1), through the same inverse CDF that draws
-/// the wavelengths: band k holds the λ drawn from u in [k/4, (k+1)/4).
+/// The wavelengths between the bands, through the same inverse CDF that draws the
+/// wavelengths: band k holds the λ drawn from u in [k/4, (k+1)/4). (At namespace scope, not a
+/// function's static, so the hot loop reads them without an initialisation guard.)
+inline const float kGuideBandEdges[kGuideBands - 1] = {
+    sample_visible_wavelength(0.25f), sample_visible_wavelength(0.5f), sample_visible_wavelength(0.75f)};
+
+/// The band of a wavelength (0 to kGuideBands − 1).
 inline int guide_band(float lambda_nm) {
-    static const float edges[kGuideBands - 1] = {sample_visible_wavelength(0.25f), sample_visible_wavelength(0.5f),
-                                                 sample_visible_wavelength(0.75f)};
     int band = 0;
-    for (float edge : edges) band += lambda_nm >= edge ? 1 : 0;
+    for (float edge : kGuideBandEdges) band += lambda_nm >= edge ? 1 : 0;
     return band;
 }
 
