@@ -190,6 +190,49 @@ TEST(PortalLight, DensityIsPositiveThroughThePortalAndZeroElsewhere) {
     EXPECT_EQ(light.pdf_li(outside, {1, 0, 0}), 0.f);
 }
 
+TEST(PortalLight, NoDirectionCarriesFarMoreThanTheWindowsRadiance) {
+    // A BSDF sample through the portal is weighed against this density by MIS, so where the
+    // density is far below the radiance (a cell whose points miss the sun's edge that it
+    // covers) a sample carries up to L / pdf: a firefly. With a density proportional to the
+    // radiance, L / pdf would be ∫ L dω over the window everywhere. The sky's colour against
+    // its luminance, the cells against the texels and the floor on a cell's weight (a quarter
+    // of its brightest neighbour's mean, which may itself cover a quarter of the sun) allow
+    // up to about 16 times that, never orders of magnitude (10^5 before that floor).
+    // A sun of 2 × 2 texels (1.4° across) that shines through the window, 10^5 times as bright
+    // as the sky, on a map as fine as the benchmarks' (texels about as wide as the cells).
+    const int width = 512, height = 256;
+    std::vector<float> rgb;
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x) {
+            const bool sun = (x == 127 || x == 128) && (y == 120 || y == 121);
+            rgb.insert(rgb.end(), {sun ? 5e4f : 0.3f, sun ? 4.5e4f : 0.4f, sun ? 4e4f : 0.7f});
+        }
+    EnvironmentMapLight env;
+    env.map = make_environment_map(width, height, 3, rgb, EnvironmentMapping::equirect);
+    const PortalLight light = make_portal_light(env, {1.f, -0.1f, -0.3f}, {0, 0.4f, 0}, {0, 0, 0.6f});
+    const SampledWavelengths lambda = SampledWavelengths::sample(0.4f);
+    for (const Vec3 p : {Vec3(0, 0, 0), Vec3(0.5f, -0.05f, 0.1f), Vec3(-0.8f, -0.3f, -0.1f), Vec3(0.3f, 0.1f, 0.05f)}) {
+        const LightSampleContext ctx{p, {}, {0, 1, 0}, {0, 1, 0}, true};
+        WindowedPiecewiseConstant2D::Window w;
+        ASSERT_TRUE(light.window(p, w));
+        const int n = 600;  // points per side of the window: far finer than its cells
+        double integral = 0, worst = 0;
+        for (int j = 0; j < n; ++j)
+            for (int i = 0; i < n; ++i) {
+                const float u = w.x0 + (w.x1 - w.x0) * (float(i) + 0.5f) / n;
+                const float v = w.y0 + (w.y1 - w.y0) * (float(j) + 0.5f) / n;
+                float jacobian = 0.f;
+                const Vec3 d = light.direction(u, v, jacobian);
+                const double L = light.arriving(d, lambda).average();
+                integral += L * jacobian * (w.x1 - w.x0) * (w.y1 - w.y0) / (double(n) * n);
+                const float pdf = light.pdf_li(ctx, d);
+                ASSERT_GT(pdf, 0.f);
+                worst = std::max(worst, L / pdf);
+            }
+        EXPECT_LT(worst, 20 * integral) << "from (" << p.x << ", " << p.y << ", " << p.z << ")";
+    }
+}
+
 TEST(PortalLight, LightSubpathsEnterThroughThePortal) {
     // Their directions, binned 16 × 16 in the rectified (u, v) of the light's arrival, follow
     // the whole square's distribution.

@@ -15,7 +15,7 @@
 //
 // Contract: f finite and ≥ 0 (else std::invalid_argument); the window is clamped to the
 // unit square; a window of zero integral has no sample and density 0; pdf() is 0 outside
-// the window. Memory: 4 bytes a cell for f and 8 for S.
+// the window. Memory: 4 bytes a cell for f, 8 for S and 8 for S by columns.
 #pragma once
 #include <algorithm>
 #include <cmath>
@@ -53,6 +53,9 @@ public:
                     m_sat[static_cast<std::size_t>(j) * w + static_cast<std::size_t>(i) + 1] + row;
             }
         }
+        m_columns.resize(static_cast<std::size_t>(nx) * (static_cast<std::size_t>(ny) + 1));
+        for (int i = 0; i < nx; ++i)
+            for (int j = 0; j <= ny; ++j) m_columns[column_index(i, j)] = S(i + 1, j) - S(i, j);
     }
 
     int nx() const { return m_nx; }
@@ -70,20 +73,29 @@ public:
     bool sample(float u0, float u1, Window w, float& x, float& y, float& pdf) const {
         w = clamped(w);
         if (!(w.x1 > w.x0) || !(w.y1 > w.y0)) return false;
-        // The window's mass left of x (y over the window): linear in x inside a column.
-        auto left_of = [&](double xs) { return F(xs, w.y1) - F(xs, w.y0) - F(w.x0, w.y1) + F(w.x0, w.y0); };
+        // The window's mass left of x (y over the window): linear in x inside a column. At a
+        // column's edge it needs two values of S per window edge, not four: the binary search
+        // below reads only edges.
+        const RowLerp r0 = row_lerp(w.y0), r1 = row_lerp(w.y1);
+        const double left_of_x0 = F(w.x0, w.y1) - F(w.x0, w.y0);
+        auto left_of = [&](double xs) { return F(xs, w.y1) - F(xs, w.y0) - left_of_x0; };
+        auto left_of_edge = [&](int i) { return F_at_column_edge(i, r1) - F_at_column_edge(i, r0) - left_of_x0; };
         const double total = left_of(w.x1);
         if (!(total > 0.0)) return false;
         int column = 0;
-        const double xs = invert(left_of, std::clamp(double(u0), 0.0, 1.0) * total, w.x0, w.x1, m_nx, column);
+        const double xs =
+            invert(left_of, left_of_edge, std::clamp(double(u0), 0.0, 1.0) * total, w.x0, w.x1, m_nx, column);
         x = inside_cell(xs, column, m_nx);
         // The chosen column's mass below y, within the window's rows.
         const double c0 = double(column) / m_nx, c1 = double(column + 1) / m_nx;
-        auto below = [&](double ys) { return F(c1, ys) - F(c0, ys) - F(c1, w.y0) + F(c0, w.y0); };
+        const double below_y0 = F(c1, w.y0) - F(c0, w.y0);
+        auto below = [&](double ys) { return F(c1, ys) - F(c0, ys) - below_y0; };
+        auto below_edge = [&](int j) { return m_columns[column_index(column, j)] - below_y0; };
         const double column_total = below(w.y1);
         if (!(column_total > 0.0)) return false;
         int row = 0;
-        const double ys = invert(below, std::clamp(double(u1), 0.0, 1.0) * column_total, w.y0, w.y1, m_ny, row);
+        const double ys =
+            invert(below, below_edge, std::clamp(double(u1), 0.0, 1.0) * column_total, w.y0, w.y1, m_ny, row);
         y = inside_cell(ys, row, m_ny);
         pdf = static_cast<float>(double(value(column, row)) / total);
         return pdf > 0.f;
@@ -101,6 +113,12 @@ public:
 private:
     std::vector<float> m_f;
     std::vector<double> m_sat;  ///< (nx + 1) × (ny + 1): ∫ f over [0, i/nx] × [0, j/ny]
+    /// S(i + 1, j) − S(i, j), column by column: the search for a row within a column reads
+    /// one contiguous stretch (in S its values lie a row of S apart, a cache line each).
+    std::vector<double> m_columns;
+    std::size_t column_index(int i, int j) const {
+        return static_cast<std::size_t>(i) * (static_cast<std::size_t>(m_ny) + 1) + static_cast<std::size_t>(j);
+    }
     int m_nx = 0, m_ny = 0;
 
     static Window clamped(Window w) {
@@ -130,15 +148,30 @@ private:
         const double fx = gx - i, fy = gy - j;
         return (S(i, j) * (1 - fx) + S(i + 1, j) * fx) * (1 - fy) + (S(i, j + 1) * (1 - fx) + S(i + 1, j + 1) * fx) * fy;
     }
+    /// A row of S and the fraction of the way to the next, for F(·, y).
+    struct RowLerp {
+        int j;
+        double f;
+    };
+    RowLerp row_lerp(double y) const {
+        const double gy = y * m_ny;
+        const int j = std::clamp(static_cast<int>(gy), 0, m_ny - 1);
+        return {j, gy - j};
+    }
+    /// F(i / nx, y), the row given by row_lerp(y).
+    double F_at_column_edge(int i, const RowLerp& r) const { return S(i, r.j) * (1 - r.f) + S(i, r.j + 1) * r.f; }
     /// The t in [a, b] where the non-decreasing, cell-wise linear `mass` (mass(a) = 0) reaches
-    /// `target` < mass(b); `cell` gets the cell (of n over [0, 1]) it lies in.
-    template <class Mass>
-    static double invert(const Mass& mass, double target, double a, double b, int n, int& cell) {
-        // The first cell whose upper edge (clipped to b) holds more than the target.
+    /// `target` < mass(b); `cell` gets the cell (of n over [0, 1]) it lies in. `mass_at_edge(k)`
+    /// is mass(k / n), for the edges strictly inside (a, b) that the search reads.
+    template <class Mass, class MassAtEdge>
+    static double invert(const Mass& mass, const MassAtEdge& mass_at_edge, double target, double a, double b, int n,
+                         int& cell) {
+        // The first cell whose upper edge (clipped to b) holds more than the target. Inside the
+        // loop mid < hi ≤ ⌈b·n⌉ − 1, so the edge mid + 1 lies below b.
         int lo = cell_of(a, n), hi = std::max(lo, std::min(n - 1, static_cast<int>(std::ceil(b * n)) - 1));
         while (lo < hi) {
             const int mid = (lo + hi) / 2;
-            if (mass(std::min(b, double(mid + 1) / n)) > target) hi = mid;
+            if (mass_at_edge(mid + 1) > target) hi = mid;
             else lo = mid + 1;
         }
         cell = lo;

@@ -15,7 +15,9 @@
 // map's importance density (luminance per solid angle) at its direction times that Jacobian,
 // and is sampled within the rectangle (core/windowed_distribution.h); pdf_li divides by the
 // Jacobian. The density is floored at 1e-3 of the uniform one, so that no direction through
-// the portal has density 0 where the map's texels are finer than the cells.
+// the portal has density 0 where the map's texels are finer than the cells, and a cell weighs
+// at least a quarter of its brightest neighbour, so that the edge of a sun that a cell covers
+// without any of its points seeing it does not get the sky's density (portal_light.cpp).
 //
 // What the portal changes: only how light is sampled, never the radiance. An escaped ray
 // sees the map in every direction, through the portal or not (pbrt-v4's Le is 0 unless the
