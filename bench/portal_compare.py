@@ -4,12 +4,12 @@ time (issue 34's portals; a benchmark, not a test).
 
 The scene: a closed white room [-1, 1]^3 with a window of 0.8 x 0.6 in its wall z = -1, a grey
 ball and a rough aluminium ball inside, under bench/envmap_compare.py's map (a dim sky and a
-small bright sun that shines in through the window). The same scene is rendered with the map
-sampled over the whole sphere (importance sampling of the map, the default) and with the window
-named as the map's portal, each for --seconds, and compared with a converged reference of the
-scene without the portal (two halves of different seeds; their difference gives the reference's
-own noise, subtracted from every relMSE). relMSE and efficiency = 1 / (relMSE * time) as in
-envmap_compare.py. Run with nothing else busy on the machine:
+small bright sun that shines in through the window; with --no-sun the sky alone). The same
+scene is rendered with the map sampled over the whole sphere (importance sampling of the map,
+the default) and with the window named as the map's portal, each for --seconds, and compared
+with a converged reference of the scene without the portal (two halves of different seeds;
+their difference gives the reference's own noise, subtracted from every relMSE). relMSE and
+efficiency = 1 / (relMSE * time) as in envmap_compare.py. Run with nothing else busy on the machine:
 
     python bench/portal_compare.py --program build/pathtracer --seconds 10
 """
@@ -26,7 +26,7 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from envmap_compare import rel_mse, render_ours, sky_map, write_pfm  # noqa: E402
+from envmap_compare import SUN_RADIANCE, rel_mse, render_ours, sky_map, write_pfm  # noqa: E402
 
 ROOT = Path(__file__).resolve().parent.parent
 WINDOW = {"origin": [-0.2, 0.0, -1.0], "edge1": [0, 0.6, 0], "edge2": [0.8, 0, 0]}  # front: -z, outside
@@ -57,6 +57,13 @@ def room_scene(map_file: Path, width: int, height: int, portal: bool) -> dict:
     }
 
 
+def overcast(img: np.ndarray) -> np.ndarray:
+    """The map without its sun: the sun's texels take the sky's colour at the horizon."""
+    out = img.copy()
+    out[np.all(img == SUN_RADIANCE, axis=-1)] = np.array([0.5, 0.55, 0.65])
+    return out
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--program", type=Path, default=ROOT / "build" / "pathtracer")
@@ -66,12 +73,14 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--height", type=int, default=120)
     ap.add_argument("--threads", type=int, default=2)
     ap.add_argument("--repeats", type=int, default=3, help="equal-time renders per variant (seeds differ)")
+    ap.add_argument("--no-sun", action="store_true",
+                    help="the sky alone (the sun's texels given the sky's colour at the horizon): an overcast day")
     ap.add_argument("--out", type=Path, help="also write the table here")
     a = ap.parse_args(argv)
     with tempfile.TemporaryDirectory() as tmp_name:
         tmp = Path(tmp_name)
         map_file = tmp / "sky.pfm"
-        write_pfm(map_file, sky_map())
+        write_pfm(map_file, overcast(sky_map()) if a.no_sun else sky_map())
         scenes = {}
         for name, portal in (("whole sphere", False), ("portal", True)):
             scenes[name] = tmp / f"{'portal' if portal else 'sphere'}.json"
