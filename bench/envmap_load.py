@@ -8,9 +8,10 @@ texel multiplied by its own random factor so that nearly every colour is distinc
 photograph: no two neighbours share a fit), then renders a 4 x 4 image at 1 spp lit by it with
 each --program, interleaved, --runs times, under `/usr/bin/time -v`. Reports per program the
 minimum wall time and peak resident memory, the "scene loaded in" time the program prints, and
-the load average. The map is written to a temporary folder and deleted afterwards.
+the load average. The map is written to a temporary folder and deleted afterwards. --portal
+names a window in front of the sphere as the map's portal (its distribution is built at load).
 
-    python bench/envmap_load.py --program build/pathtracer [--program other/pathtracer] --runs 5
+    python bench/envmap_load.py --program build/pathtracer [--program other/pathtracer] --runs 5 [--portal]
 """
 
 from __future__ import annotations
@@ -73,6 +74,7 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--height", type=int, default=4096)
     ap.add_argument("--runs", type=int, default=3)
     ap.add_argument("--threads", type=int, default=2)
+    ap.add_argument("--portal", action="store_true", help="sample the map through a portal")
     ap.add_argument("--keep", type=Path, help="write the map here and keep it (default: a temporary folder)")
     args = ap.parse_args(argv)
 
@@ -82,10 +84,13 @@ def main(argv: list[str] | None = None) -> int:
         if not map_file.exists():
             write_map(map_file, args.width, args.height)
         scene = work / "scene.json"
+        background = {"type": "image", "file": str(map_file.resolve()), "mapping": "equirect"}
+        if args.portal:  # a 2 x 1 window in the plane z = -2, its front (-z) facing away from the sphere
+            background["portal"] = {"origin": [-1, 0, -2], "edge1": [0, 1, 0], "edge2": [2, 0, 0]}
         scene.write_text(json.dumps({
             "camera": {"position": [0, 1, 4], "look_at": [0, 0.5, 0], "up": [0, 1, 0], "vfov_degrees": 35},
             "image": {"width": 4, "height": 4, "spp": 1},
-            "background": {"type": "image", "file": str(map_file.resolve()), "mapping": "equirect"},
+            "background": background,
             "materials": {"grey": {"kd": 0.5}},
             "shapes": [{"type": "sphere", "center": [0, 0.5, 0], "radius": 0.5, "material": "grey"}],
         }))
@@ -95,7 +100,8 @@ def main(argv: list[str] | None = None) -> int:
                 r = run(p, scene, args.threads)
                 results[p].append(r)
                 print(f"run {i} {p}: {r}", flush=True)
-        print(f"\nmap {args.width}x{args.height}, {args.threads} threads, min of {args.runs} interleaved runs")
+        print(f"\nmap {args.width}x{args.height}{' with a portal' if args.portal else ''}, {args.threads} threads, "
+              f"min of {args.runs} interleaved runs")
         print("| program | wall (s) | user (s) | scene loaded in (s) | peak RSS (MiB) | load average (1 min) |")
         print("|---|---:|---:|---:|---:|---|")
         for p, rs in results.items():

@@ -1,8 +1,9 @@
 // Portals (model/lights/portal_light.h) and the windowed distribution they sample
 // (core/windowed_distribution.h): window integrals against sums over cells, sampled points
 // against the density (chi-square over the window's cells, which a window cutting through
-// cells must get right), directions through the portal and only through it, densities 0
-// elsewhere, and malformed portals refused. Renders with portals are in
+// cells must get right), the portal's directions through the portal and only through it,
+// the mixture with the whole sphere's density (its share, and samples weighed by the density
+// they were drawn with), and malformed portals refused. Renders with portals are in
 // test_environment_map_scenes.cpp; the light contract's row in test_light_contract.cpp.
 #include <gtest/gtest.h>
 
@@ -114,6 +115,22 @@ PortalLight window_light() {
     return make_portal_light(env, {1.f, -0.1f, -0.3f}, {0, 0.4f, 0}, {0, 0, 0.6f});
 }
 
+/// The window of window_light() under a sun of 2 × 2 texels (1.4° across; its centre at
+/// (u, v) = (0.25, 0.471)) that shines through it, 10^5 times as bright as the sky, on a map
+/// as fine as the benchmarks' (texels about as wide as the cells).
+PortalLight sunlit_window_light() {
+    const int width = 512, height = 256;
+    std::vector<float> rgb;
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x) {
+            const bool sun = (x == 127 || x == 128) && (y == 120 || y == 121);
+            rgb.insert(rgb.end(), {sun ? 5e4f : 0.3f, sun ? 4.5e4f : 0.4f, sun ? 4e4f : 0.7f});
+        }
+    EnvironmentMapLight env;
+    env.map = make_environment_map(width, height, 3, rgb, EnvironmentMapping::equirect);
+    return make_portal_light(env, {1.f, -0.1f, -0.3f}, {0, 0.4f, 0}, {0, 0, 0.6f});
+}
+
 /// Where the ray from p along d crosses the portal's plane lies inside the portal.
 bool passes_through(const Portal& portal, const Vec3& p, const Vec3& d) {
     const float t = dot(portal.origin - p, portal.z) / dot(d, portal.z);
@@ -124,6 +141,8 @@ bool passes_through(const Portal& portal, const Vec3& p, const Vec3& d) {
 }
 
 TEST(PortalLight, SampledDirectionsPassThroughThePortalAndFollowTheirDensity) {
+    // The portal's part of the mixture: u1 below the portal's share (the mixture as a whole
+    // is checked against pdf_li over the sphere in test_light_contract.cpp).
     const PortalLight light = window_light();
     const SampledWavelengths lambda = SampledWavelengths::sample(0.4f);
     std::mt19937_64 rng(5);
@@ -133,11 +152,13 @@ TEST(PortalLight, SampledDirectionsPassThroughThePortalAndFollowTheirDensity) {
         // The directions' rectified coordinates, binned 16 × 16 over the window.
         WindowedPiecewiseConstant2D::Window w;
         ASSERT_TRUE(light.window(p, w));
+        const float share = light.through_from(p).share;
+        ASSERT_GT(share, 0.f);
         const int n = 100000, bins = 16;
         std::vector<double> observed(bins * bins, 0.0), expected(bins * bins, 0.0);
         for (int k = 0; k < n; ++k) {
             LightSample ls;
-            ASSERT_TRUE(light.sample_li(ctx, lambda, u(rng), u(rng), ls));
+            ASSERT_TRUE(light.sample_li(ctx, lambda, u(rng) * share, u(rng), ls));
             ASSERT_TRUE(passes_through(light.portal(), p, ls.wi)) << "a direction that misses the portal";
             ASSERT_GT(ls.L[0], 0.f);
             float uu, vv, jacobian;
@@ -158,36 +179,85 @@ TEST(PortalLight, SampledDirectionsPassThroughThePortalAndFollowTheirDensity) {
     }
 }
 
-TEST(PortalLight, DensityIsPositiveThroughThePortalAndZeroElsewhere) {
+TEST(PortalLight, DensityIsTheMixtureOfThePortalAndTheWholeSphere) {
     const PortalLight light = window_light();
     std::mt19937_64 rng(9);
     std::uniform_real_distribution<float> u(-1.f, 1.f);
     const Vec3 p(0.2f, 0.1f, -0.2f);
     const LightSampleContext ctx{p, {}, {0, 1, 0}, {0, 1, 0}, true};
+    const float share = light.through_from(p).share;
     int through = 0;
     for (int k = 0; k < 20000; ++k) {
         const Vec3 d = normalize(Vec3(u(rng), u(rng), u(rng)));
-        const float pdf = light.pdf_li(ctx, d);
+        const float pdf = light.pdf_li(ctx, d), sphere = light.environment.pdf_li(ctx, d);
         // Directions within 1e-4 of an edge may round either way.
         if (passes_through(light.portal(), p, d)) {
-            EXPECT_GT(pdf, 0.f);
+            EXPECT_GT(pdf, (1.f - share) * sphere);
             ++through;
         } else {
             const Portal& q = light.portal();
             const bool near_edge = passes_through({q.origin - q.x * 0.01f - q.y * 0.01f, q.edge1 + q.x * 0.02f,
                                                    q.edge2 + q.y * 0.02f, q.x, q.y, q.z, q.width + 0.02f, q.height + 0.02f},
                                                   p, d);
-            if (!near_edge) {
-                EXPECT_EQ(pdf, 0.f);
-            }
+            if (!near_edge) EXPECT_FLOAT_EQ(pdf, (1.f - share) * sphere);
         }
     }
     EXPECT_GT(through, 100);
-    // In front of the portal (outside) nothing is sampled.
+    // In front of the portal (outside), the whole sphere's density alone.
     const LightSampleContext outside{{1.5f, 0.f, 0.f}, {}, {0, 1, 0}, {0, 1, 0}, true};
-    LightSample ls;
-    EXPECT_FALSE(light.sample_li(outside, SampledWavelengths::sample(0.4f), 0.3f, 0.6f, ls));
-    EXPECT_EQ(light.pdf_li(outside, {1, 0, 0}), 0.f);
+    for (const Vec3 d : {Vec3(1, 0, 0), normalize(Vec3(-0.3f, 0.5f, 0.2f))})
+        EXPECT_EQ(light.pdf_li(outside, d), light.environment.pdf_li(outside, d));
+}
+
+TEST(PortalLight, ThePortalCedesToTheWholeSphereWhereTheSunIsSeenThroughIt) {
+    // From a point that sees the sun through the window, most of the whole-sphere density's
+    // samples pass through the portal; from one that sees only sky through it, few.
+    const PortalLight light = sunlit_window_light();
+    const EnvironmentMap& map = *light.environment.map;
+    const Vec3 sun = normalize(light.environment.to_world(map.direction_of(0.25f, 0.471f)));
+    const Portal& q = light.portal();
+    ASSERT_GT(dot(sun, q.z), 0.f);
+    const Vec3 centre = q.origin + q.edge1 * 0.5f + q.edge2 * 0.5f;
+    // The sun's direction from `shaded` crosses the portal's plane beside the portal.
+    const Vec3 sunlit = centre - sun * 0.8f, shaded = sunlit + q.edge2 * 1.5f;
+    ASSERT_TRUE(passes_through(q, sunlit, sun));
+    ASSERT_FALSE(passes_through(q, shaded, sun));
+    EXPECT_LT(light.through_from(sunlit).share, 0.3f);
+    EXPECT_GT(light.through_from(shaded).share, 0.9f);
+}
+
+TEST(PortalLight, MixedSamplesAreWeighedByTheMixturesDensity) {
+    // Where both strategies draw (0 < share < 1), E[g / pdf] = ∫ g = 1 for g each strategy's
+    // own density: both fail if sample_li drew with another share than pdf_li weighs by.
+    // window_light()'s portal turned to face its sun (front −x), from points behind it on the
+    // line to the sun, 1.4 from the window: there the sun is partly seen through it, and
+    // both strategies draw (P = 0.75, share 0.49).
+    const EnvironmentMapLight env = window_light().environment;
+    const PortalLight light = make_portal_light(env, {1.f, -0.1f, -0.3f}, {0, 0, 0.6f}, {0, 0.4f, 0});
+    const Vec3 sun = normalize(env.to_world(env.map->direction_of(49.5f / 64, 11.5f / 32)));
+    const Portal& q = light.portal();
+    ASSERT_GT(dot(sun, q.z), 0.f);
+    const Vec3 centre = q.origin + q.edge1 * 0.5f + q.edge2 * 0.5f;
+    const Vec3 p = centre - sun * 1.4f;
+    const PortalLight::Through t = light.through_from(p);
+    ASSERT_TRUE(t.share > 0.1f && t.share < 0.9f) << t.share;
+    const LightSampleContext ctx{p, {}, {0, 1, 0}, {0, 1, 0}, true};
+    const SampledWavelengths lambda = SampledWavelengths::sample(0.4f);
+    std::mt19937_64 rng(17);
+    std::uniform_real_distribution<float> u(0.f, 1.f);
+    const int n = 200000;
+    double sphere = 0, portal = 0;
+    for (int k = 0; k < n; ++k) {
+        LightSample ls;
+        ASSERT_TRUE(light.sample_li(ctx, lambda, u(rng), u(rng), ls));
+        ASSERT_NEAR(ls.pdf, light.pdf_li(ctx, ls.wi), 1e-5f * ls.pdf);
+        sphere += env.pdf_li(ctx, ls.wi) / ls.pdf;
+        float uu, vv, jacobian;
+        if (light.rectified(ls.wi, uu, vv, jacobian))
+            portal += light.sampling->distribution.pdf(uu, vv, t.window) / jacobian / ls.pdf;
+    }
+    EXPECT_NEAR(sphere / n, 1.0, 0.01) << "share " << t.share;
+    EXPECT_NEAR(portal / n, 1.0, 0.01) << "share " << t.share;
 }
 
 TEST(PortalLight, NoDirectionCarriesFarMoreThanTheWindowsRadiance) {
@@ -198,18 +268,7 @@ TEST(PortalLight, NoDirectionCarriesFarMoreThanTheWindowsRadiance) {
     // its luminance, the cells against the texels and the floor on a cell's weight (a quarter
     // of its brightest neighbour's mean, which may itself cover a quarter of the sun) allow
     // up to about 16 times that, never orders of magnitude (10^5 before that floor).
-    // A sun of 2 × 2 texels (1.4° across) that shines through the window, 10^5 times as bright
-    // as the sky, on a map as fine as the benchmarks' (texels about as wide as the cells).
-    const int width = 512, height = 256;
-    std::vector<float> rgb;
-    for (int y = 0; y < height; ++y)
-        for (int x = 0; x < width; ++x) {
-            const bool sun = (x == 127 || x == 128) && (y == 120 || y == 121);
-            rgb.insert(rgb.end(), {sun ? 5e4f : 0.3f, sun ? 4.5e4f : 0.4f, sun ? 4e4f : 0.7f});
-        }
-    EnvironmentMapLight env;
-    env.map = make_environment_map(width, height, 3, rgb, EnvironmentMapping::equirect);
-    const PortalLight light = make_portal_light(env, {1.f, -0.1f, -0.3f}, {0, 0.4f, 0}, {0, 0, 0.6f});
+    const PortalLight light = sunlit_window_light();
     const SampledWavelengths lambda = SampledWavelengths::sample(0.4f);
     for (const Vec3 p : {Vec3(0, 0, 0), Vec3(0.5f, -0.05f, 0.1f), Vec3(-0.8f, -0.3f, -0.1f), Vec3(0.3f, 0.1f, 0.05f)}) {
         const LightSampleContext ctx{p, {}, {0, 1, 0}, {0, 1, 0}, true};

@@ -15,7 +15,7 @@
 //
 // Contract: f finite and ≥ 0 (else std::invalid_argument); the window is clamped to the
 // unit square; a window of zero integral has no sample and density 0; pdf() is 0 outside
-// the window. Memory: 4 bytes a cell for f, 8 for S and 8 for S by columns.
+// the window. Memory: 4 bytes a cell for f, 8 for S.
 #pragma once
 #include <algorithm>
 #include <cmath>
@@ -53,9 +53,6 @@ public:
                     m_sat[static_cast<std::size_t>(j) * w + static_cast<std::size_t>(i) + 1] + row;
             }
         }
-        m_columns.resize(static_cast<std::size_t>(nx) * (static_cast<std::size_t>(ny) + 1));
-        for (int i = 0; i < nx; ++i)
-            for (int j = 0; j <= ny; ++j) m_columns[column_index(i, j)] = S(i + 1, j) - S(i, j);
     }
 
     int nx() const { return m_nx; }
@@ -90,7 +87,7 @@ public:
         const double c0 = double(column) / m_nx, c1 = double(column + 1) / m_nx;
         const double below_y0 = F(c1, w.y0) - F(c0, w.y0);
         auto below = [&](double ys) { return F(c1, ys) - F(c0, ys) - below_y0; };
-        auto below_edge = [&](int j) { return m_columns[column_index(column, j)] - below_y0; };
+        auto below_edge = [&](int j) { return S(column + 1, j) - S(column, j) - below_y0; };
         const double column_total = below(w.y1);
         if (!(column_total > 0.0)) return false;
         int row = 0;
@@ -102,23 +99,17 @@ public:
     }
 
     /// The density sample() draws the point (x, y) with from window w.
-    float pdf(float x, float y, Window w) const {
+    float pdf(float x, float y, Window w) const { return density(x, y, w, integral(w)); }
+    /// The same for a caller that has the window's integral at hand.
+    float density(float x, float y, Window w, double window_integral) const {
         w = clamped(w);
-        if (!(x >= w.x0 && x <= w.x1 && y >= w.y0 && y <= w.y1)) return 0.f;
-        const double total = integral(w);
-        if (!(total > 0.0)) return 0.f;
-        return static_cast<float>(double(value(cell_of(x, m_nx), cell_of(y, m_ny))) / total);
+        if (!(x >= w.x0 && x <= w.x1 && y >= w.y0 && y <= w.y1) || !(window_integral > 0.0)) return 0.f;
+        return static_cast<float>(double(value(cell_of(x, m_nx), cell_of(y, m_ny))) / window_integral);
     }
 
 private:
     std::vector<float> m_f;
     std::vector<double> m_sat;  ///< (nx + 1) × (ny + 1): ∫ f over [0, i/nx] × [0, j/ny]
-    /// S(i + 1, j) − S(i, j), column by column: the search for a row within a column reads
-    /// one contiguous stretch (in S its values lie a row of S apart, a cache line each).
-    std::vector<double> m_columns;
-    std::size_t column_index(int i, int j) const {
-        return static_cast<std::size_t>(i) * (static_cast<std::size_t>(m_ny) + 1) + static_cast<std::size_t>(j);
-    }
     int m_nx = 0, m_ny = 0;
 
     static Window clamped(Window w) {

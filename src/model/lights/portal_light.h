@@ -19,13 +19,24 @@
 // at least a quarter of its brightest neighbour, so that the edge of a sun that a cell covers
 // without any of its points seeing it does not get the sky's density (portal_light.cpp).
 //
+// A light sample is a one-sample mixture of the portal and the map's own density over the
+// whole sphere (environment_map_light.h), both exact, so MIS sees their sum. The portal's
+// share at a point follows P, the share of the whole-sphere density's samples that pass
+// through the portal from there (the window's integral of the cells' weights; through_from
+// below). Where the window shows only sky, P is small and the portal draws every sample;
+// where a sun is seen through it, P is near 1 and the whole-sphere density, which draws the
+// sun's texels exactly, takes over: the portal's cells do not line up with the texels, and
+// at the sun's edges their density is several times off its radiance (docs/PERFORMANCE.md,
+// "Portals").
+//
 // What the portal changes: only how light is sampled, never the radiance. An escaped ray
 // sees the map in every direction, through the portal or not (pbrt-v4's Le is 0 unless the
 // ray passed through the portal: the two agree for a room closed but for its portal).
-// Directions that leave elsewhere (another opening) have light density 0 and are found by
-// BSDF sampling alone, whose MIS weight is then 1: unbiased when BSDF sampling is combined,
-// as in every integrator by default; with light sampling alone (`--light-sampling light`)
-// they stay dark, as they would in pbrt-v4.
+// Directions that leave elsewhere (another opening) have only the whole-sphere share of the
+// light density, 0 where the portal's share is 1; BSDF sampling finds them, with MIS weight
+// 1 there: unbiased when BSDF sampling is combined, as in every integrator by default; with
+// light sampling alone (`--light-sampling light`) they stay dark there, as they would in
+// pbrt-v4. From a point not behind the portal the whole-sphere density alone samples the map.
 //
 // Light subpaths (bdpt, vcm) start on the portal itself: a point uniform over its area and
 // a direction from the map over the whole (u, v) square, entering the room. pdf_pos is the
@@ -111,27 +122,52 @@ struct PortalLight {
         return true;
     }
 
-    float pdf_li(const LightSampleContext& ctx, const Vec3& wi) const {
-        float u, v, jacobian;
-        WindowedPiecewiseConstant2D::Window w;
-        if (!window(ctx.p, w) || !rectified(wi, u, v, jacobian)) return 0.f;
-        return sampling->distribution.pdf(u, v, w) / jacobian;
+    /// What the light sampling of one shading point needs: its window through the portal, the
+    /// window's integral of the cells' weights and the portal's share of the samples.
+    struct Through {
+        WindowedPiecewiseConstant2D::Window window;
+        double integral = 0.0;
+        float share = 0.f;  ///< 0: the whole sphere alone (also from points not behind the portal)
+    };
+    /// The portal's share follows P, the share of the whole-sphere density's samples that
+    /// pass through the portal from q: the window's integral, as the cells' weights are that
+    /// density per (u, v). Up to P = ½ the portal alone (the whole sphere would waste at least
+    /// half its samples on the walls, and its density need not be evaluated), then 2(1 − P),
+    /// down to 0 at P = 1: where a sun is seen through the window the whole-sphere density,
+    /// which draws the sun's texels exactly and costs less, takes over. Near a sun the
+    /// integral over-estimates P (cells are raised towards their brightest neighbour), which
+    /// only hands the sun to the whole sphere sooner.
+    Through through_from(const Vec3& q) const {
+        Through t;
+        if (!window(q, t.window)) return t;
+        t.integral = sampling->distribution.integral(t.window);
+        t.share = static_cast<float>(std::clamp(2.0 * (1.0 - t.integral), 0.0, 1.0));
+        return t;
     }
+
+    /// The one-sample mixture's density: share · portal + (1 − share) · whole sphere.
+    float pdf_li(const LightSampleContext& ctx, const Vec3& wi) const { return pdf_li(ctx, through_from(ctx.p), wi); }
 
     bool sample_li(const LightSampleContext& ctx, const SampledWavelengths& lambda, float u1, float u2,
                    LightSample& ls) const {
-        WindowedPiecewiseConstant2D::Window w;
-        if (!window(ctx.p, w)) return false;
-        float u, v, square_pdf, jacobian;
-        if (!sampling->distribution.sample(u1, u2, w, u, v, square_pdf)) return false;
-        ls.wi = direction(u, v, jacobian);
+        const Through t = through_from(ctx.p);
+        if (u1 < t.share) {
+            float u, v, square_pdf, jacobian;
+            if (!sampling->distribution.sample(std::min(u1 / t.share, piecewise_detail::kOneMinusEpsilon), u2,
+                                               t.window, u, v, square_pdf))
+                return false;
+            ls.wi = direction(u, v, jacobian);
+            ls.L = arriving(ls.wi, lambda);
+            ls.infinite = true;
+        } else if (!environment.sample_li(
+                       ctx, lambda, std::min((u1 - t.share) / (1.f - t.share), piecewise_detail::kOneMinusEpsilon), u2,
+                       ls)) {
+            return false;
+        }
         // The density as a ray along the direction finds it (the rounding of the direction
-        // may move it across a cell edge).
-        ls.pdf = pdf_li(ctx, ls.wi);
-        if (!(ls.pdf > 0.f) || !std::isfinite(ls.pdf)) return false;
-        ls.L = arriving(ls.wi, lambda);
-        ls.infinite = true;
-        return true;
+        // may move it across a cell edge), of both strategies.
+        ls.pdf = pdf_li(ctx, t, ls.wi);
+        return ls.pdf > 0.f && std::isfinite(ls.pdf);
     }
 
     /// A light subpath's origin: a point on the portal, entering the room along o.w.
@@ -171,6 +207,14 @@ struct PortalLight {
         const float qx = dot(q, P.x), qy = dot(q, P.y);
         if (!(qx >= 0.f && qx <= P.width && qy >= 0.f && qy <= P.height)) return 0.f;
         return 1.f / (P.width * P.height * cos_theta);
+    }
+
+private:
+    float pdf_li(const LightSampleContext& ctx, const Through& t, const Vec3& wi) const {
+        float through = 0.f, u, v, jacobian;
+        if (t.share > 0.f && t.integral > 0.0 && rectified(wi, u, v, jacobian))
+            through = sampling->distribution.density(u, v, t.window, t.integral) / jacobian;
+        return t.share * through + (t.share < 1.f ? (1.f - t.share) * environment.pdf_li(ctx, wi) : 0.f);
     }
 };
 
