@@ -199,7 +199,9 @@ TEST(PortalLight, DensityIsTheMixtureOfThePortalAndTheWholeSphere) {
             const bool near_edge = passes_through({q.origin - q.x * 0.01f - q.y * 0.01f, q.edge1 + q.x * 0.02f,
                                                    q.edge2 + q.y * 0.02f, q.x, q.y, q.z, q.width + 0.02f, q.height + 0.02f},
                                                   p, d);
-            if (!near_edge) EXPECT_FLOAT_EQ(pdf, (1.f - share) * sphere);
+            if (!near_edge) {
+                EXPECT_FLOAT_EQ(pdf, (1.f - share) * sphere);
+            }
         }
     }
     EXPECT_GT(through, 100);
