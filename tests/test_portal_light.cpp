@@ -131,6 +131,22 @@ PortalLight sunlit_window_light() {
     return make_portal_light(env, {1.f, -0.1f, -0.3f}, {0, 0.4f, 0}, {0, 0, 0.6f});
 }
 
+/// window_light()'s portal turned to face its sun (front −x), and a point behind it on the
+/// line to the sun, 1.4 from the window: the sun is partly seen through the window from
+/// there, and both strategies of the mixture draw (P = 0.75, share 0.49).
+struct MixedPoint {
+    PortalLight light;
+    Vec3 p;
+};
+MixedPoint sun_facing_portal() {
+    const EnvironmentMapLight env = window_light().environment;
+    MixedPoint m{make_portal_light(env, {1.f, -0.1f, -0.3f}, {0, 0, 0.6f}, {0, 0.4f, 0}), {}};
+    const Vec3 sun = normalize(env.to_world(env.map->direction_of(49.5f / 64, 11.5f / 32)));
+    const Portal& q = m.light.portal();
+    m.p = q.origin + q.edge1 * 0.5f + q.edge2 * 0.5f - sun * 1.4f;
+    return m;
+}
+
 /// Where the ray from p along d crosses the portal's plane lies inside the portal.
 bool passes_through(const Portal& portal, const Vec3& p, const Vec3& d) {
     const float t = dot(portal.origin - p, portal.z) / dot(d, portal.z);
@@ -141,8 +157,8 @@ bool passes_through(const Portal& portal, const Vec3& p, const Vec3& d) {
 }
 
 TEST(PortalLight, SampledDirectionsPassThroughThePortalAndFollowTheirDensity) {
-    // The portal's part of the mixture: u1 below the portal's share (the mixture as a whole
-    // is checked against pdf_li over the sphere in test_light_contract.cpp).
+    // The portal's part of the mixture: u1 below the portal's share (the mixture as a whole:
+    // MixedSamplesAreWeighedByTheMixturesDensity).
     const PortalLight light = window_light();
     const SampledWavelengths lambda = SampledWavelengths::sample(0.4f);
     std::mt19937_64 rng(5);
@@ -180,32 +196,36 @@ TEST(PortalLight, SampledDirectionsPassThroughThePortalAndFollowTheirDensity) {
 }
 
 TEST(PortalLight, DensityIsTheMixtureOfThePortalAndTheWholeSphere) {
-    const PortalLight light = window_light();
-    std::mt19937_64 rng(9);
-    std::uniform_real_distribution<float> u(-1.f, 1.f);
-    const Vec3 p(0.2f, 0.1f, -0.2f);
-    const LightSampleContext ctx{p, {}, {0, 1, 0}, {0, 1, 0}, true};
-    const float share = light.through_from(p).share;
-    int through = 0;
-    for (int k = 0; k < 20000; ++k) {
-        const Vec3 d = normalize(Vec3(u(rng), u(rng), u(rng)));
-        const float pdf = light.pdf_li(ctx, d), sphere = light.environment.pdf_li(ctx, d);
-        // Directions within 1e-4 of an edge may round either way.
-        if (passes_through(light.portal(), p, d)) {
-            EXPECT_GT(pdf, (1.f - share) * sphere);
-            ++through;
-        } else {
+    // Where the portal draws alone (share 1) and where both strategies draw.
+    const MixedPoint mixed = sun_facing_portal();
+    for (const MixedPoint& m : {MixedPoint{window_light(), {0.2f, 0.1f, -0.2f}}, mixed}) {
+        const PortalLight& light = m.light;
+        const Vec3 p = m.p;
+        std::mt19937_64 rng(9);
+        std::uniform_real_distribution<float> u(-1.f, 1.f);
+        const LightSampleContext ctx{p, {}, {0, 1, 0}, {0, 1, 0}, true};
+        const float share = light.through_from(p).share;
+        int through = 0;
+        for (int k = 0; k < 20000; ++k) {
+            const Vec3 d = normalize(Vec3(u(rng), u(rng), u(rng)));
+            const float pdf = light.pdf_li(ctx, d), sphere = light.environment.pdf_li(ctx, d);
+            // Directions near an edge may round either way: not checked.
             const Portal& q = light.portal();
-            const bool near_edge = passes_through({q.origin - q.x * 0.01f - q.y * 0.01f, q.edge1 + q.x * 0.02f,
-                                                   q.edge2 + q.y * 0.02f, q.x, q.y, q.z, q.width + 0.02f, q.height + 0.02f},
-                                                  p, d);
-            if (!near_edge) {
+            auto grown = [&](float e) {  // the portal with a margin e (shrunk for e < 0)
+                return Portal{q.origin - q.x * e - q.y * e, q.edge1 + q.x * 2.f * e, q.edge2 + q.y * 2.f * e,
+                              q.x, q.y, q.z, q.width + 2.f * e, q.height + 2.f * e};
+            };
+            if (passes_through(grown(-0.01f), p, d)) {
+                EXPECT_GT(pdf, (1.f - share) * sphere);
+                ++through;
+            } else if (!passes_through(grown(0.01f), p, d)) {
                 EXPECT_FLOAT_EQ(pdf, (1.f - share) * sphere);
             }
         }
+        EXPECT_GT(through, 100);
     }
-    EXPECT_GT(through, 100);
     // In front of the portal (outside), the whole sphere's density alone.
+    const PortalLight light = window_light();
     const LightSampleContext outside{{1.5f, 0.f, 0.f}, {}, {0, 1, 0}, {0, 1, 0}, true};
     for (const Vec3 d : {Vec3(1, 0, 0), normalize(Vec3(-0.3f, 0.5f, 0.2f))})
         EXPECT_EQ(light.pdf_li(outside, d), light.environment.pdf_li(outside, d));
@@ -231,16 +251,8 @@ TEST(PortalLight, ThePortalCedesToTheWholeSphereWhereTheSunIsSeenThroughIt) {
 TEST(PortalLight, MixedSamplesAreWeighedByTheMixturesDensity) {
     // Where both strategies draw (0 < share < 1), E[g / pdf] = ∫ g = 1 for g each strategy's
     // own density: both fail if sample_li drew with another share than pdf_li weighs by.
-    // window_light()'s portal turned to face its sun (front −x), from points behind it on the
-    // line to the sun, 1.4 from the window: there the sun is partly seen through it, and
-    // both strategies draw (P = 0.75, share 0.49).
-    const EnvironmentMapLight env = window_light().environment;
-    const PortalLight light = make_portal_light(env, {1.f, -0.1f, -0.3f}, {0, 0, 0.6f}, {0, 0.4f, 0});
-    const Vec3 sun = normalize(env.to_world(env.map->direction_of(49.5f / 64, 11.5f / 32)));
-    const Portal& q = light.portal();
-    ASSERT_GT(dot(sun, q.z), 0.f);
-    const Vec3 centre = q.origin + q.edge1 * 0.5f + q.edge2 * 0.5f;
-    const Vec3 p = centre - sun * 1.4f;
+    const auto [light, p] = sun_facing_portal();
+    const EnvironmentMapLight& env = light.environment;
     const PortalLight::Through t = light.through_from(p);
     ASSERT_TRUE(t.share > 0.1f && t.share < 0.9f) << t.share;
     const LightSampleContext ctx{p, {}, {0, 1, 0}, {0, 1, 0}, true};
