@@ -380,7 +380,11 @@ TEST(EnvironmentMap, RadiantMeanAndUpIlluminanceAreTheTexelSums) {
                         ? 4 * kPiD / (double(w) * h)
                         : 2 * kPiD / w * (std::cos(kPiD * y / h) - std::cos(kPiD * (y + 1) / h));
                 double mean = 0;
-                for (int k = 0; k <= 40; ++k) mean += m->eval(m->texels[i], 380.f + 10.f * float(k));
+                for (int k = 0; k <= 40; ++k) {
+                    SampledWavelengths at;
+                    at.lambda.fill(380.f + 10.f * float(k));
+                    mean += m->eval(m->texels[i], at)[0];
+                }
                 radiant += mean / 41 * omega;
                 const Vec3 d = m->direction_of((float(x) + 0.5f) / float(w), (float(y) + 0.5f) / float(h));
                 const double cos_up = mapping == EnvironmentMapping::equal_area ? d.z : d.y;

@@ -69,6 +69,28 @@ TEST(FastMath, Atan2MatchesStdOnTheUpperHalfPlane) {
     EXPECT_GT(std::fabs(u * (1 - u2 * (1.0 / 3 - u2 * (1.0 / 5 - u2 / 7))) - std::atan(u)), 1e-5);
 }
 
+TEST(FastMath, SignedAtan2MatchesTheLibraryInEveryQuadrant) {
+    // atan2_signed (the environment maps' look-ups) against std::atan2 in double, all four
+    // quadrants, and std::atan2's signed zeros: y = ±0 on either side of x.
+    double worst = 0;
+    spt::Rng rng(10, 11, 12);
+    for (int k = 0; k < 200000; ++k) {
+        const double r = std::ldexp(1.0 + rng.uniform(), static_cast<int>(rng.uniform() * 40) - 20);
+        const double angle = (2.0 * rng.uniform() - 1.0) * 3.141592653589793;
+        const double y = r * std::sin(angle), x = r * std::cos(angle);
+        worst = std::max(worst, std::fabs(spt::atan2_signed(y, x) - std::atan2(y, x)));
+    }
+    EXPECT_LT(worst, 1e-10);
+    for (const double y : {0.0, -0.0})
+        for (const double x : {2.0, -2.0, 0.0}) {
+            const double expected = std::atan2(y, x), got = spt::atan2_signed(y, x);
+            EXPECT_NEAR(got, expected, 1e-15) << y << ", " << x;
+            EXPECT_EQ(std::signbit(got), std::signbit(expected)) << y << ", " << x;
+        }
+    // Planted bug: the sign dropped (atan2_nonnegative of |y|) is told apart below the x axis.
+    EXPECT_GT(std::fabs(spt::atan2_nonnegative(0.5, -1.0) - std::atan2(-0.5, -1.0)), 1.0);
+}
+
 TEST(FastMath, LanesGiveTheScalarBits) {
     // atan2_nonnegative and sincos_quarter_pi in lanes (the plane light's polygon and tries)
     // compute, lane by lane, the scalar functions' bits, on both sides of every select of the

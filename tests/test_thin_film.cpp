@@ -7,7 +7,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <complex>
 
+#include "core/rng.h"
 #include "model/bsdfs/bsdf.h"
 
 namespace {
@@ -59,6 +61,41 @@ TEST(ThinFilm, ZeroThicknessIsTheBareSubstrate) {
         // And a vanishing film tends to it continuously.
         EXPECT_NEAR(thin_film_reflectance(float(cos0), 1.f, 1.8f, {1.5f, 0.f}, 0.01f, 550.f), fresnel_dielectric(float(cos0), 1.5f), 1e-4);
     }
+}
+
+TEST(ThinFilm, InlineRootAndReflectanceMatchComplexArithmeticInDouble) {
+    // The written-out principal root and the bare interface's |r|² against std::complex<double>:
+    // every quadrant, the negative real axis (the root +i·√|x|: total internal reflection),
+    // magnitudes over 12 decades; then metals, dielectrics from either side and grazing light.
+    using D = std::complex<double>;
+    spt::Rng rng(3, 1, 4);
+    for (int k = 0; k < 100000; ++k) {
+        const double r = std::ldexp(1.0 + rng.uniform(), static_cast<int>(rng.uniform() * 40) - 20);
+        const double angle = k % 7 == 0 ? 3.141592653589793 : (2.0 * rng.uniform() - 1.0) * 3.141592653589793;
+        const Complex z(static_cast<float>(r * std::cos(angle)), k % 7 == 0 ? 0.f : static_cast<float>(r * std::sin(angle)));
+        const Complex got = thin_film_detail::principal_sqrt(z);
+        const D expected = std::sqrt(D(z.real(), z.imag()));
+        ASSERT_LE(std::abs(D(got.real(), got.imag()) - expected), 3e-7 * std::abs(expected)) << z;
+    }
+    EXPECT_EQ(thin_film_detail::principal_sqrt(Complex(-4.f, 0.f)), Complex(0.f, 2.f));
+    EXPECT_EQ(thin_film_detail::principal_sqrt(Complex(0.f, 0.f)), Complex(0.f, 0.f));
+    // root_sign −1: the planted bug (the other root, the growing wave).
+    auto reference = [](float cos_i, float n0, float eta, float kappa, double root_sign) {
+        const D q0(n0 * cos_i), n2(eta, kappa), n0c(n0 * n0);
+        const D q2 = root_sign * std::sqrt(n2 * n2 - D(n0 * n0 * (1.0 - double(cos_i) * cos_i)));
+        const D rs = (q0 - q2) / (q0 + q2), rp = (n2 * n2 * q0 - n0c * q2) / (n2 * n2 * q0 + n0c * q2);
+        return std::min(1.0, 0.5 * (std::norm(rs) + std::norm(rp)));
+    };
+    double worst = 0;
+    for (int k = 0; k < 100000; ++k) {
+        const float cos_i = k % 11 == 0 ? 0.f : rng.uniform(), n0 = k % 2 ? 1.f : 1.5f;
+        const float eta = 0.05f + 4.f * rng.uniform(), kappa = k % 3 == 0 ? 0.f : 8.f * rng.uniform();
+        worst = std::max(worst, std::fabs(interface_reflectance(cos_i, n0, {eta, kappa}) - reference(cos_i, n0, eta, kappa, 1.0)));
+    }
+    // The float rounding of sin² θ: near η = 1 at grazing angles the reflectance is steep in
+    // it (1.4e-5 there, as std::complex<float> gave).
+    EXPECT_LT(worst, 3e-5);
+    EXPECT_GT(std::fabs(interface_reflectance(0.7f, 1.f, {0.2f, 3.f}) - reference(0.7f, 1.f, 0.2f, 3.f, -1.0)), 0.01);
 }
 
 TEST(ThinFilm, QuarterAndHalfWaveFilms) {

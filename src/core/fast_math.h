@@ -64,6 +64,14 @@ inline double atan2_nonnegative(double y, double x) {
     return a;
 }
 
+/// atan2(y, x) for any y (an angle in [−π, π]): atan2_nonnegative of |y|, with y's sign (so
+/// y = −0 gives −0 or −π, as std::atan2 does). For the environment maps' direction → image
+/// look-ups, where std::atan2f was a tenth of a path's time.
+inline double atan2_signed(double y, double x) {
+    const double a = atan2_nonnegative(std::fabs(y), x);
+    return std::signbit(y) ? -a : a;
+}
+
 /// atan2_nonnegative in four lanes (into `out`), operation for operation the scalar one (the
 /// same bits in every lane: the branches become selects, the two quotients one division of
 /// selected operands, |x| the sign bit cleared).

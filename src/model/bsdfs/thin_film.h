@@ -8,6 +8,7 @@
 // A film of thickness 0 gives the bare interface 0|2 exactly.
 #pragma once
 #include <algorithm>
+#include <cmath>
 #include <complex>
 
 #include "core/math.h"
@@ -17,7 +18,27 @@ namespace spt {
 using Complex = std::complex<float>;
 
 namespace thin_film_detail {
-inline Complex q_of(Complex n, float n0_sin2) { return std::sqrt(n * n - Complex(n0_sin2)); }
+// std::sqrt, std::norm and the division of std::complex<float> are library calls (csqrtf, a
+// hypot, __divsc3) that cost a conductor's Fresnel term several times its arithmetic; the
+// bare interface needs only |r|², a quotient of two squared moduli, and the root and the
+// modulus are written out here.
+
+/// x² + y² (std::norm of a float complex goes through a hypot).
+inline float squared_modulus(Complex z) { return z.real() * z.real() + z.imag() * z.imag(); }
+/// The principal square root (real part ≥ 0; the branch cut along the negative reals, whose
+/// root is +i·√|x| for imaginary part +0). Each branch takes the root of a sum of two
+/// non-negative terms, so neither cancels.
+inline Complex principal_sqrt(Complex z) {
+    const float x = z.real(), y = z.imag(), r = std::sqrt(squared_modulus(z));
+    if (r == 0.f) return {0.f, 0.f};
+    if (x >= 0.f) {
+        const float t = std::sqrt(0.5f * (r + x));
+        return {t, y / (2.f * t)};
+    }
+    const float t = std::sqrt(0.5f * (r - x));
+    return {std::fabs(y) / (2.f * t), std::copysign(t, y)};
+}
+inline Complex q_of(Complex n, float n0_sin2) { return principal_sqrt(n * n - Complex(n0_sin2)); }
 inline Complex r_s(Complex qa, Complex qb) { return (qa - qb) / (qa + qb); }
 /// p-polarised amplitude with n_a² and n_b² (the cosines are q/n).
 inline Complex r_p(Complex na2, Complex qa, Complex nb2, Complex qb) {
@@ -31,9 +52,11 @@ inline float interface_reflectance(float cos_i, float n0, Complex n2) {
     using namespace thin_film_detail;
     cos_i = std::clamp(cos_i, 0.f, 1.f);
     const float s2 = n0 * n0 * (1.f - cos_i * cos_i);
-    const Complex q0(n0 * cos_i), q2 = q_of(n2, s2);
-    const Complex rs = r_s(q0, q2), rp = r_p(Complex(n0 * n0), q0, n2 * n2, q2);
-    return std::min(1.f, 0.5f * (std::norm(rs) + std::norm(rp)));
+    const Complex q0(n0 * cos_i), q2 = q_of(n2, s2), na2(n0 * n0), nb2 = n2 * n2;
+    // |r_s|² and |r_p|² as |numerator|² / |denominator|² of r_s and r_p.
+    const float rs2 = squared_modulus(q0 - q2) / squared_modulus(q0 + q2);
+    const float rp2 = squared_modulus(nb2 * q0 - na2 * q2) / squared_modulus(nb2 * q0 + na2 * q2);
+    return std::min(1.f, 0.5f * (rs2 + rp2));
 }
 
 /// Exact Fresnel reflectance of a conductor η + ik seen from a medium of index 1.
@@ -55,7 +78,7 @@ inline float thin_film_reflectance(float cos_i, float n0, float n1, Complex n2, 
     const Complex r01p = r_p(n0c, q0, n1c, q1), r12p = r_p(n1c, q1, n2c, q2);
     const Complex rs = (r01s + r12s * phase) / (1.f + r01s * r12s * phase);
     const Complex rp = (r01p + r12p * phase) / (1.f + r01p * r12p * phase);
-    return std::min(1.f, 0.5f * (std::norm(rs) + std::norm(rp)));
+    return std::min(1.f, 0.5f * (squared_modulus(rs) + squared_modulus(rp)));
 }
 
 }  // namespace spt

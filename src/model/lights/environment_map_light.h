@@ -29,6 +29,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -37,6 +38,7 @@
 #include "core/parallel_rows.h"
 #include "core/piecewise_constant.h"
 #include "core/sampling.h"
+#include "core/simd.h"
 #include "geometry/sphere_mappings.h"
 #include "model/lights/bounding_disk.h"
 #include "model/lights/light_sample.h"
@@ -63,13 +65,21 @@ struct EnvironmentMap {
     /// equal-area) from the texels whose centre lies above its horizon.
     double up_illuminance = 0;
 
-    /// The texel's spectrum at one wavelength (scale 1).
-    float eval(const RgbIlluminant& t, float lambda_nm) const {
-        const float x = std::clamp(lambda_nm - 360.f, 0.f, 469.999f);
-        const int i = static_cast<int>(x);
-        const float f = x - static_cast<float>(i);
-        return t.scale * t.shape.eval(lambda_nm) * (d65[static_cast<std::size_t>(i)] * (1.f - f) +
-                                                    d65[static_cast<std::size_t>(i) + 1] * f);
+    /// The texel's spectrum at the path's wavelengths (scale 1), the four at once: the sigmoid
+    /// of SigmoidCoefficients::eval times D65 interpolated linearly between whole nanometres.
+    Float4 eval(const RgbIlluminant& t, const SampledWavelengths& lambda) const {
+        Float4 l, d;
+        std::memcpy(&l, lambda.lambda.data(), sizeof l);
+        const Float4 x = min4(max4(l - 360.f, splat4(0.f)), splat4(469.999f));
+        const Int4 i = to_int4(x);
+        const Float4 f = x - to_float4(i);
+        for (int k = 0; k < kLambdaCount; ++k) {
+            const std::size_t j = static_cast<std::size_t>(i[k]);
+            d[k] = d65[j] * (1.f - f[k]) + d65[j + 1] * f[k];
+        }
+        const Float4 tt = (l - 360.f) * (1.f / 470.f);
+        const Float4 s = (splat4(t.shape.c0) * tt + t.shape.c1) * tt + t.shape.c2;
+        return t.scale * (0.5f + s / (2.f * sqrt4(1.f + s * s))) * d;
     }
     /// The square's point (u, v) ∈ [0, 1)² of a direction in the map's space.
     std::array<float, 2> square_of(const Vec3& d) const {
@@ -125,17 +135,13 @@ struct EnvironmentMapLight {
 
     /// Radiance arriving along an escaped ray of direction d (unit): the nearest texel's.
     SampledSpectrum arriving(const Vec3& d, const SampledWavelengths& lambda) const {
-        const auto [u, v] = map->square_of(to_map(d));
-        const RgbIlluminant& t = map->texel_at(u, v);
-        SampledSpectrum L;
-        for (int k = 0; k < kLambdaCount; ++k) L[k] = scale * map->eval(t, lambda.lambda[k]);
-        return L;
+        return radiance(look_up(d).texel, lambda);
     }
 
     /// Solid-angle density of sample_li's direction wi (the same from every point).
     float pdf_li(const LightSampleContext& /*ctx*/, const Vec3& wi) const {
         if (sampling == EnvironmentSampling::uniform) return 0.25f * kInvPi;
-        return direction_pdf(wi, mis_compensation ? map->compensated : map->distribution);
+        return look_up(wi, &light_distribution()).pdf;
     }
 
     bool sample_li(const LightSampleContext& /*ctx*/, const SampledWavelengths& lambda, float u1, float u2,
@@ -144,15 +150,19 @@ struct EnvironmentMapLight {
             ls.wi = sample_uniform_sphere(u1, u2);
             ls.pdf = 0.25f * kInvPi;
         } else {
-            const PiecewiseConstant2D& dist = mis_compensation ? map->compensated : map->distribution;
+            const PiecewiseConstant2D& dist = light_distribution();
             float square_pdf = 0.f;
             const auto [u, v] = dist.sample(u1, u2, &square_pdf);
             if (!(square_pdf > 0.f)) return false;
             ls.wi = normalize(to_world(map->direction_of(u, v)));
             // The density and radiance of the direction as a ray along it finds them (the
             // sampled square point and the direction's own may round into neighbouring texels).
-            ls.pdf = direction_pdf(ls.wi, dist);
+            const Lookup at = look_up(ls.wi, &dist);
+            ls.pdf = at.pdf;
             if (!(ls.pdf > 0.f) || !std::isfinite(ls.pdf)) return false;
+            ls.L = radiance(at.texel, lambda);
+            ls.infinite = true;
+            return true;
         }
         ls.L = arriving(ls.wi, lambda);
         ls.infinite = true;
@@ -185,7 +195,7 @@ struct EnvironmentMapLight {
     /// Solid-angle density of sample_le's direction w (the light arrives from −w).
     float pdf_le_dir(const Vec3& /*n*/, const Vec3& w) const {
         if (sampling == EnvironmentSampling::uniform) return 0.25f * kInvPi;
-        return direction_pdf(-w, map->distribution);
+        return look_up(-w, &map->distribution).pdf;
     }
     /// Planar density of the disk point through which a ray travelling along d (unit)
     /// reaches p: 1/(πR²), or 0 when no ray leaving the disk passes through p.
@@ -194,10 +204,23 @@ struct EnvironmentMapLight {
     }
 
 private:
-    float direction_pdf(const Vec3& towards, const PiecewiseConstant2D& dist) const {
+    const PiecewiseConstant2D& light_distribution() const {
+        return mis_compensation ? map->compensated : map->distribution;
+    }
+    /// What a direction (world, unit) finds in the map: the nearest texel and, given a
+    /// distribution, its solid-angle density there. One mapping to the image serves both (its
+    /// two arctangents are the costliest part of a look-up).
+    struct Lookup {
+        const RgbIlluminant& texel;
+        float pdf = 0.f;
+    };
+    Lookup look_up(const Vec3& towards, const PiecewiseConstant2D* dist = nullptr) const {
         const Vec3 d = to_map(towards);
         const auto [u, v] = map->square_of(d);
-        return map->solid_angle_pdf(dist.pdf(u, v), d);
+        return {map->texel_at(u, v), dist ? map->solid_angle_pdf(dist->pdf(u, v), d) : 0.f};
+    }
+    SampledSpectrum radiance(const RgbIlluminant& t, const SampledWavelengths& lambda) const {
+        return SampledSpectrum(scale * map->eval(t, lambda));
     }
 };
 

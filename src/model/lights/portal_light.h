@@ -47,8 +47,10 @@
 #pragma once
 #include <cmath>
 #include <memory>
+#include <numbers>
 #include <optional>
 
+#include "core/fast_math.h"
 #include "core/windowed_distribution.h"
 #include "model/lights/environment_map_light.h"
 
@@ -91,14 +93,21 @@ struct PortalLight {
         return environment.arriving(d, lambda);
     }
 
+    /// (atan2(a, z) + π/2)/π for z > 0, in [0, 1]: the rectified coordinate of a direction (or
+    /// an offset) with component a along an edge and z along the portal's normal. The sampled
+    /// directions and their windows both come from here (and not std::atan2f, which cost a
+    /// sample four library calls).
+    static float rectified_coordinate(float a, float z) {
+        return std::clamp(static_cast<float>(atan2_signed(a, z) / std::numbers::pi + 0.5), 0.f, 1.f);
+    }
     /// The rectified coordinates of a world direction through the portal's front (false
     /// behind it), with dω/d(u, v).
     bool rectified(const Vec3& w, float& u, float& v, float& jacobian) const {
         const Portal& p = portal();
         const float wx = dot(w, p.x), wy = dot(w, p.y), wz = dot(w, p.z);
         if (!(wz > 0.f)) return false;
-        u = std::clamp((std::atan2(wx, wz) + 0.5f * kPi) * kInvPi, 0.f, 1.f);
-        v = std::clamp((std::atan2(wy, wz) + 0.5f * kPi) * kInvPi, 0.f, 1.f);
+        u = rectified_coordinate(wx, wz);
+        v = rectified_coordinate(wy, wz);
         jacobian = portal_jacobian(wx, wy, wz);
         return jacobian > 0.f;
     }
@@ -117,8 +126,8 @@ struct PortalLight {
         const Vec3 r = q - p.origin;
         const float rx = dot(r, p.x), ry = dot(r, p.y), depth = -dot(r, p.z);
         if (!(depth > 0.f)) return false;
-        auto coordinate = [&](float along) { return (std::atan2(along, depth) + 0.5f * kPi) * kInvPi; };
-        w = {coordinate(-rx), coordinate(-ry), coordinate(p.width - rx), coordinate(p.height - ry)};
+        w = {rectified_coordinate(-rx, depth), rectified_coordinate(-ry, depth), rectified_coordinate(p.width - rx, depth),
+             rectified_coordinate(p.height - ry, depth)};
         return true;
     }
 
