@@ -1,18 +1,46 @@
 #include "cli/render_description.h"
 
+#include <cstring>
 #include <fstream>
-#include <iterator>
+#include <vector>
 
 #include "io/checksums.h"
 
 namespace spt {
 
+namespace {
+
+/// FNV-1a over the 64-bit words of `block` (then its last bytes one by one), continuing `h`.
+std::uint64_t fnv1a64_words(const char* block, std::size_t n, std::uint64_t h) {
+    std::size_t i = 0;
+    for (; i + 8 <= n; i += 8) {
+        std::uint64_t word;
+        std::memcpy(&word, block + i, 8);
+        h = (h ^ word) * 0x100000001b3ull;
+    }
+    for (; i < n; ++i) h = (h ^ static_cast<unsigned char>(block[i])) * 0x100000001b3ull;
+    return h;
+}
+
+}  // namespace
+
 std::uint64_t program_build_id() {
     static const std::uint64_t id = [] {
+        // The executable is read at every render (tens of megabytes in a debug or sanitizer
+        // build): in blocks, a word at a time, not byte by byte through a stream iterator,
+        // which took 0.2 s of a 58 MB debug build's start.
         std::ifstream in("/proc/self/exe", std::ios::binary);
-        const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+        std::vector<char> block(std::size_t(1) << 20);  // a multiple of 8: only the last block has a tail
+        std::uint64_t h = 0xcbf29ce484222325ull;
+        std::size_t total = 0;
+        while (in) {
+            in.read(block.data(), static_cast<std::streamsize>(block.size()));
+            const std::size_t n = static_cast<std::size_t>(in.gcount());
+            h = fnv1a64_words(block.data(), n, h);
+            total += n;
+        }
         // Without /proc, the version string is the best the program can say about itself.
-        return fnv1a64(bytes.empty() ? std::string(SPT_VERSION) : bytes);
+        return total > 0 ? h : fnv1a64(SPT_VERSION);
     }();
     return id;
 }
