@@ -2,17 +2,20 @@
 """Check .ci/sanitizer_skips.txt: does the rest of the sanitizer stage reach every line of src/
 that the listed tests reach?
 
-The sanitizer stage of .ci/run leaves the listed tests out to keep CI short. That loses nothing
-the sanitizers could see in code only while the other tests and the stage's scene loop execute
-every line those tests execute. This measures it with gcov in a coverage build:
+The sanitizer stage of .ci/run leaves the listed tests out to keep CI short. Line coverage is
+the proxy for what that loses: no line of src/ goes unchecked while the other tests and the
+stage's scene loop execute every line those tests execute, but the sanitizers then see only the
+rest of the stage's data passing through those lines, not the listed tests' own. This measures
+the lines with gcov in a coverage build:
 
     cmake -S . -B build-cov -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSPT_NATIVE=OFF \\
         -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -DNDEBUG --coverage" -DCMAKE_EXE_LINKER_FLAGS=--coverage
     cmake --build build-cov --target pathtracer unit_tests
     python3 tools/check_sanitizer_skips.py build-cov
 
-It runs the suite without the listed tests plus every built-in scene with each integrator (as the
-stage does), then the listed tests alone, and prints each line of src/ that only the second run
+It runs the suite without the listed tests plus every built-in scene with each integrator (the
+same renders as the stage's scene loop in .ci/run: change the two together), then the listed
+tests alone, and prints each line of src/ that only the second run
 reached, with the listed tests that reach it. Exit status 1 when there is such a line.
 """
 from __future__ import annotations
